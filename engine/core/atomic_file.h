@@ -1,0 +1,29 @@
+// Writes a file through a temporary sibling that is renamed over the target on
+// commit(), so that a failed write never leaves a half-written output.
+#pragma once
+#include <fstream>
+#include <string>
+
+namespace anisurf {
+
+class AtomicFile {
+ public:
+  // Opens "<path>.tmp-<pid>" for writing (binary); throws IoError on failure.
+  explicit AtomicFile(const std::string& path);
+  ~AtomicFile();  // removes the temporary file unless committed
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  std::ofstream& stream() { return out_; }
+  // Flushes, closes and renames over the target; throws IoError on failure.
+  void commit();
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  std::string tmp_;
+  std::ofstream out_;
+  bool committed_ = false;
+};
+
+}  // namespace anisurf

@@ -1,0 +1,31 @@
+// Per-format readers and writers (internal to engine/io; use mesh_io.h).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "io/mesh_io.h"
+
+namespace anisurf::io {
+
+MeshData read_medit(const std::string& path);          // .mesh (ASCII)
+MeshData read_medit_binary(const std::string& path);   // .meshb
+void write_medit(const std::string& path, const MeshData& data, int version);
+void write_medit_binary(const std::string& path, const MeshData& data);
+
+std::vector<FieldData> read_sol_ascii(const std::string& path, int n_vertices, int* dimension);
+std::vector<FieldData> read_sol_binary(const std::string& path, int n_vertices, int* dimension);
+void write_sol_ascii(const std::string& path, const std::vector<FieldData>& fields, int n_vertices, int dimension);
+void write_sol_binary(const std::string& path, const std::vector<FieldData>& fields, int n_vertices, int dimension);
+
+MeshData read_obj(const std::string& path);
+void write_obj(const std::string& path, const MeshData& data);
+MeshData read_off(const std::string& path);
+MeshData read_ply(const std::string& path);
+void write_ply(const std::string& path, const MeshData& data, bool binary, bool big_endian);
+MeshData read_stl(const std::string& path);
+void write_stl(const std::string& path, const MeshData& data, bool binary);
+MeshData read_gltf(const std::string& path);  // .gltf and .glb
+void write_glb(const std::string& path, const MeshData& data);
+void write_vtk(const std::string& path, const MeshData& data);
+
+}  // namespace anisurf::io

@@ -1,0 +1,183 @@
+#include "io/text_reader.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+
+namespace anisurf {
+
+std::string read_file_contents(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path + ": cannot open file (" + std::strerror(errno) + ")");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw IoError(path + ": read error");
+  return ss.str();
+}
+
+std::string format_double(double v) {
+  char buf[64];
+  auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+bool host_is_little_endian() {
+  const std::uint16_t x = 1;
+  return *reinterpret_cast<const std::uint8_t*>(&x) == 1;
+}
+
+TextReader::TextReader(const std::string& path, char comment)
+    : data_(read_file_contents(path)), path_(path), comment_(comment) {}
+
+TextReader::TextReader(std::string contents, const std::string& path, char comment)
+    : data_(std::move(contents)), path_(path), comment_(comment) {}
+
+void TextReader::skip_space_and_comments() {
+  const std::size_t n = data_.size();
+  while (pos_ < n) {
+    char c = data_[pos_];
+    if (c == '\n') {
+      ++line_;
+      ++pos_;
+    } else if (c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v') {
+      ++pos_;
+    } else if (comment_ && c == comment_) {
+      while (pos_ < n && data_[pos_] != '\n') ++pos_;
+    } else {
+      break;
+    }
+  }
+}
+
+bool TextReader::next(std::string_view& token) {
+  skip_space_and_comments();
+  if (pos_ >= data_.size()) {
+    token_line_ = line_;
+    return false;
+  }
+  std::size_t start = pos_;
+  const std::size_t n = data_.size();
+  while (pos_ < n) {
+    char c = data_[pos_];
+    if (c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v') break;
+    if (comment_ && c == comment_) break;
+    ++pos_;
+  }
+  token_line_ = line_;
+  token = std::string_view(data_).substr(start, pos_ - start);
+  return true;
+}
+
+std::string_view TextReader::token(const char* what) {
+  std::string_view t;
+  if (!next(t)) fail(std::string("unexpected end of file, expected ") + what);
+  return t;
+}
+
+std::string_view TextReader::peek() {
+  std::size_t p = pos_;
+  int l = line_, tl = token_line_;
+  std::string_view t;
+  if (!next(t)) t = {};
+  pos_ = p;
+  line_ = l;
+  token_line_ = tl;
+  return t;
+}
+
+bool TextReader::at_end() {
+  skip_space_and_comments();
+  return pos_ >= data_.size();
+}
+
+double TextReader::read_double(const char* what) {
+  std::string_view t = token(what);
+  const char* b = t.data();
+  const char* e = b + t.size();
+  if (*b == '+') ++b;
+  double v = 0;
+  auto r = std::from_chars(b, e, v);
+  if (r.ec == std::errc::result_out_of_range) {
+    // from_chars refuses denormals / overflow; strtod gives the IEEE result.
+    v = std::strtod(std::string(t).c_str(), nullptr);
+  } else if (r.ec != std::errc() || r.ptr != e) {
+    // Fortran-style exponents (1.0D+00) appear in some Medit files.
+    std::string s(t);
+    for (char& c : s)
+      if (c == 'd' || c == 'D') c = 'e';
+    char* end = nullptr;
+    v = std::strtod(s.c_str(), &end);
+    if (s.empty() || end != s.c_str() + s.size()) fail_expected(what, t);
+  }
+  return v;
+}
+
+double TextReader::read_finite(const char* what) {
+  double v = read_double(what);
+  if (!std::isfinite(v)) fail(std::string(what) + " is not a finite number ('" + std::to_string(v) + "')");
+  return v;
+}
+
+long long TextReader::read_int(const char* what) {
+  std::string_view t = token(what);
+  const char* b = t.data();
+  const char* e = b + t.size();
+  if (*b == '+') ++b;
+  long long v = 0;
+  auto r = std::from_chars(b, e, v);
+  if (r.ec != std::errc() || r.ptr != e) fail_expected(what, t);
+  return v;
+}
+
+long long TextReader::read_int(const char* what, long long lo, long long hi) {
+  long long v = read_int(what);
+  if (v < lo || v > hi)
+    fail(std::string(what) + " " + std::to_string(v) + " out of range, expected " + std::to_string(lo) + ".." +
+         std::to_string(hi));
+  return v;
+}
+
+std::string_view TextReader::rest_of_line() {
+  const std::size_t n = data_.size();
+  while (pos_ < n && (data_[pos_] == ' ' || data_[pos_] == '\t')) ++pos_;
+  std::size_t start = pos_;
+  while (pos_ < n && data_[pos_] != '\n') ++pos_;
+  std::size_t end = pos_;
+  if (end > start && data_[end - 1] == '\r') --end;
+  token_line_ = line_;
+  if (pos_ < n) {
+    ++pos_;
+    ++line_;
+  }
+  return std::string_view(data_).substr(start, end - start);
+}
+
+void TextReader::fail(const std::string& message) const {
+  throw IoError(path_ + ":" + std::to_string(token_line_) + ": " + message);
+}
+
+void TextReader::fail_expected(const char* what, std::string_view found) const {
+  std::string f(found.substr(0, 40));
+  fail(std::string("expected ") + what + ", found '" + f + "'");
+}
+
+ByteReader ByteReader::from_file(const std::string& path) { return ByteReader(read_file_contents(path), path); }
+
+const char* ByteReader::bytes(std::size_t n, const char* what) {
+  if (n > data_.size() || pos_ > data_.size() - n)
+    fail(std::string("truncated file, expected ") + what + " (" + std::to_string(n) + " bytes) but only " +
+         std::to_string(data_.size() - std::min(pos_, data_.size())) + " remain");
+  const char* p = data_.data() + pos_;
+  pos_ += n;
+  return p;
+}
+
+void ByteReader::fail(const std::string& message) const {
+  throw IoError(path_ + ": byte " + std::to_string(pos_) + ": " + message);
+}
+
+}  // namespace anisurf
