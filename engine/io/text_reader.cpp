@@ -94,8 +94,10 @@ bool TextReader::at_end() {
   return pos_ >= data_.size();
 }
 
-double TextReader::read_double(const char* what) {
-  std::string_view t = token(what);
+double TextReader::read_double(const char* what) { return parse_double(token(what), what); }
+
+double TextReader::parse_double(std::string_view t, const char* what) const {
+  if (t.empty()) fail_expected(what, t);
   const char* b = t.data();
   const char* e = b + t.size();
   if (*b == '+') ++b;
@@ -122,8 +124,10 @@ double TextReader::read_finite(const char* what) {
   return v;
 }
 
-long long TextReader::read_int(const char* what) {
-  std::string_view t = token(what);
+long long TextReader::read_int(const char* what) { return parse_int(token(what), what); }
+
+long long TextReader::parse_int(std::string_view t, const char* what) const {
+  if (t.empty()) fail_expected(what, t);
   const char* b = t.data();
   const char* e = b + t.size();
   if (*b == '+') ++b;
@@ -154,6 +158,28 @@ std::string_view TextReader::rest_of_line() {
     ++line_;
   }
   return std::string_view(data_).substr(start, end - start);
+}
+
+bool TextReader::next_on_line(std::string_view& token) {
+  const std::size_t n = data_.size();
+  while (pos_ < n && (data_[pos_] == ' ' || data_[pos_] == '\t' || data_[pos_] == '\r' || data_[pos_] == '\f' ||
+                      data_[pos_] == '\v'))
+    ++pos_;
+  token_line_ = line_;
+  if (pos_ >= n || data_[pos_] == '\n') return false;
+  if (comment_ && data_[pos_] == comment_) {
+    while (pos_ < n && data_[pos_] != '\n') ++pos_;
+    return false;
+  }
+  std::size_t start = pos_;
+  while (pos_ < n) {
+    char c = data_[pos_];
+    if (c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v') break;
+    if (comment_ && c == comment_) break;
+    ++pos_;
+  }
+  token = std::string_view(data_).substr(start, pos_ - start);
+  return true;
 }
 
 void TextReader::fail(const std::string& message) const {

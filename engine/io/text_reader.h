@@ -29,6 +29,14 @@ class TextReader {
   long long read_int(const char* what, long long lo, long long hi);
   // The rest of the current line (without the newline), advancing past it.
   std::string_view rest_of_line();
+  // Line-bounded reading (OBJ, OFF, PLY ascii): the next token on the current
+  // line; false (consuming nothing) at the end of the line or of the file.
+  // A comment ends the line. Use rest_of_line() to move to the next line.
+  bool next_on_line(std::string_view& token);
+  // Parses an already-read token (fails like read_double / read_int, naming
+  // `what` and the line of the last token).
+  double parse_double(std::string_view token, const char* what) const;
+  long long parse_int(std::string_view token, const char* what) const;
   bool at_end();
   // Line of the last token returned (1-based).
   int line() const { return token_line_; }
