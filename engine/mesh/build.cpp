@@ -1,0 +1,525 @@
+#include "mesh/build.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <unordered_map>
+
+#include "core/error.h"
+
+namespace anisurf {
+
+namespace {
+
+using Tri = std::array<int, 3>;
+
+std::uint64_t edge_key(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+
+void check_input(const MeshData& d, const std::string& source) {
+  if (d.triangles.empty()) throw TopologyError(source + ": the mesh has no triangle (nothing to build)");
+  const int nv = static_cast<int>(d.vertices.size());
+  for (std::size_t i = 0; i < d.vertices.size(); ++i)
+    if (!is_finite(d.vertices[i]))
+      throw TopologyError(source + ": vertex " + std::to_string(i + 1) + " has a non-finite coordinate");
+  for (std::size_t t = 0; t < d.triangles.size(); ++t)
+    for (int v : d.triangles[t])
+      if (v < 0 || v >= nv)
+        throw TopologyError(source + ": triangle " + std::to_string(t + 1) + " uses vertex " + std::to_string(v + 1) +
+                            ", expected 1.." + std::to_string(nv));
+  auto check_ids = [&](const std::vector<int>& ids, int n, const char* what) {
+    for (int id : ids)
+      if (id < 0 || id >= n)
+        throw TopologyError(source + ": " + what + " id " + std::to_string(id + 1) + " out of range 1.." +
+                            std::to_string(n));
+  };
+  check_ids(d.corners, nv, "corner vertex");
+  check_ids(d.required_vertices, nv, "required vertex");
+  check_ids(d.ridges, static_cast<int>(d.edges.size()), "ridge edge");
+  check_ids(d.required_edges, static_cast<int>(d.edges.size()), "required edge");
+  check_ids(d.required_triangles, static_cast<int>(d.triangles.size()), "required triangle");
+  for (const auto& e : d.edges)
+    for (int v : e)
+      if (v < 0 || v >= nv)
+        throw TopologyError(source + ": edge uses vertex " + std::to_string(v + 1) + ", expected 1.." +
+                            std::to_string(nv));
+  for (const auto& f : d.fields)
+    if (f.info.ncomp < 1 || f.info.ncomp > 6 || f.values.size() != d.vertices.size() * f.info.ncomp)
+      throw TopologyError(source + ": field '" + f.info.name + "' has " + std::to_string(f.values.size()) +
+                          " values, expected " + std::to_string(d.vertices.size()) + " x " +
+                          std::to_string(f.info.ncomp));
+}
+
+// Representative of each vertex after merging coincident positions: exact
+// equality when tol == 0, else within tol (grid hashing, 27 neighbour cells).
+std::vector<int> merge_positions(const std::vector<Vec3>& p, double tol) {
+  const int n = static_cast<int>(p.size());
+  std::vector<int> rep(n);
+  std::iota(rep.begin(), rep.end(), 0);
+  if (tol <= 0) {
+    std::vector<int> order(n);
+    std::iota(order.begin(), order.end(), 0);
+    auto less = [&](int a, int b) {
+      if (p[a].x != p[b].x) return p[a].x < p[b].x;
+      if (p[a].y != p[b].y) return p[a].y < p[b].y;
+      if (p[a].z != p[b].z) return p[a].z < p[b].z;
+      return a < b;
+    };
+    std::sort(order.begin(), order.end(), less);
+    for (int i = 1; i < n; ++i)
+      if (p[order[i]] == p[order[i - 1]]) rep[order[i]] = rep[order[i - 1]];
+    return rep;
+  }
+  const double cell = 2 * tol;
+  auto key = [](long long i, long long j, long long k) {
+    return static_cast<std::uint64_t>(i * 73856093LL ^ j * 19349663LL ^ k * 83492791LL);
+  };
+  std::unordered_multimap<std::uint64_t, int> grid;
+  grid.reserve(static_cast<std::size_t>(n) * 2);
+  const double tol2 = tol * tol;
+  for (int v = 0; v < n; ++v) {
+    long long i = static_cast<long long>(std::floor(p[v].x / cell));
+    long long j = static_cast<long long>(std::floor(p[v].y / cell));
+    long long k = static_cast<long long>(std::floor(p[v].z / cell));
+    int found = -1;
+    for (long long di = -1; di <= 1 && found < 0; ++di)
+      for (long long dj = -1; dj <= 1 && found < 0; ++dj)
+        for (long long dk = -1; dk <= 1 && found < 0; ++dk) {
+          auto range = grid.equal_range(key(i + di, j + dj, k + dk));
+          for (auto it = range.first; it != range.second; ++it)
+            if (norm2(p[it->second] - p[v]) <= tol2) {
+              found = it->second;
+              break;
+            }
+        }
+    if (found >= 0) {
+      rep[v] = found;
+    } else {
+      grid.emplace(key(i, j, k), v);
+    }
+  }
+  return rep;
+}
+
+// Triangle incidences of one undirected edge, grouped by sorting.
+struct EdgeUse {
+  std::uint64_t key;
+  int tri;
+  int local;  // corner opposite the edge
+};
+
+std::vector<EdgeUse> sorted_edge_uses(const std::vector<Tri>& tris) {
+  std::vector<EdgeUse> uses;
+  uses.reserve(tris.size() * 3);
+  for (int t = 0; t < static_cast<int>(tris.size()); ++t)
+    for (int k = 0; k < 3; ++k)
+      uses.push_back({edge_key(tris[t][(k + 1) % 3], tris[t][(k + 2) % 3]), t, k});
+  std::sort(uses.begin(), uses.end(), [](const EdgeUse& a, const EdgeUse& b) {
+    return a.key != b.key ? a.key < b.key : (a.tri != b.tri ? a.tri < b.tri : a.local < b.local);
+  });
+  return uses;
+}
+
+// True when the edge opposite corner `local` of t runs in the same direction
+// in both triangles (so one of them must be flipped).
+bool same_direction(const Tri& a, int la, const Tri& b, int lb) {
+  return a[(la + 1) % 3] == b[(lb + 1) % 3];
+}
+
+}  // namespace
+
+bool BuildReport::repaired() const {
+  return merged_vertices || unreferenced_vertices || degenerate_triangles || duplicate_triangles ||
+         flipped_triangles || non_manifold_edges || non_manifold_vertices || non_orientable_components ||
+         dropped_edges;
+}
+
+std::vector<std::string> BuildReport::repair_messages() const {
+  std::vector<std::string> m;
+  auto add = [&](int n, const std::string& what) {
+    if (n > 0) m.push_back(std::to_string(n) + " " + what);
+  };
+  add(merged_vertices, "coincident vertices merged");
+  add(unreferenced_vertices, "unreferenced vertices dropped");
+  add(degenerate_triangles, "degenerate triangles (repeated vertex) dropped");
+  add(duplicate_triangles, "duplicated triangles dropped");
+  add(flipped_triangles, "triangles flipped to orient their component consistently");
+  add(non_manifold_edges, "non-manifold edges (more than 2 triangles) cut apart");
+  add(non_manifold_vertices, "non-manifold vertices split into one copy per fan");
+  add(non_orientable_components, "edges cut to orient non-orientable components");
+  add(dropped_edges, "listed edges dropped (not an edge of any triangle)");
+  add(zero_area_triangles, "zero-area triangles kept (reported only)");
+  return m;
+}
+
+BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions& opt, const std::string& source) {
+  check_input(d, source);
+  BuildReport rep;
+  rep.input_vertices = static_cast<int>(d.vertices.size());
+  rep.input_triangles = static_cast<int>(d.triangles.size());
+  rep.warnings = d.warnings;
+  const int nv_in = rep.input_vertices;
+
+  // 1. merge coincident positions
+  std::vector<int> rep_of(nv_in);
+  std::iota(rep_of.begin(), rep_of.end(), 0);
+  bool merge = opt.merge == BuildOptions::Merge::Always ||
+               (opt.merge == BuildOptions::Merge::Auto);
+  if (merge) {
+    double tol = 0;
+    if (d.split_vertices || opt.merge == BuildOptions::Merge::Always) {
+      BBox b;
+      for (const auto& p : d.vertices) b.add(p);
+      tol = opt.merge_tolerance * b.diagonal();
+    }
+    rep_of = merge_positions(d.vertices, tol);
+  }
+
+  // 2. triangles: drop degenerate and duplicated ones
+  std::vector<Tri> tris;
+  std::vector<int> tri_origin;
+  tris.reserve(d.triangles.size());
+  tri_origin.reserve(d.triangles.size());
+  for (int t = 0; t < static_cast<int>(d.triangles.size()); ++t) {
+    Tri tr{rep_of[d.triangles[t][0]], rep_of[d.triangles[t][1]], rep_of[d.triangles[t][2]]};
+    if (tr[0] == tr[1] || tr[1] == tr[2] || tr[0] == tr[2]) {
+      ++rep.degenerate_triangles;
+      continue;
+    }
+    tris.push_back(tr);
+    tri_origin.push_back(t);
+  }
+  if (opt.drop_duplicate_triangles) {
+    std::vector<int> order(tris.size());
+    std::iota(order.begin(), order.end(), 0);
+    auto sorted = [&](int t) {
+      Tri s = tris[t];
+      std::sort(s.begin(), s.end());
+      return s;
+    };
+    std::vector<Tri> keys(tris.size());
+    for (std::size_t t = 0; t < tris.size(); ++t) keys[t] = sorted(static_cast<int>(t));
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return keys[a] != keys[b] ? keys[a] < keys[b] : a < b; });
+    std::vector<char> drop(tris.size(), 0);
+    for (std::size_t i = 1; i < order.size(); ++i)
+      if (keys[order[i]] == keys[order[i - 1]]) drop[order[i]] = 1;
+    std::size_t w = 0;
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+      if (drop[t]) {
+        ++rep.duplicate_triangles;
+        continue;
+      }
+      tris[w] = tris[t];
+      tri_origin[w] = tri_origin[t];
+      ++w;
+    }
+    tris.resize(w);
+    tri_origin.resize(w);
+  }
+  if (tris.empty()) throw TopologyError(source + ": every triangle is degenerate or duplicated (nothing to build)");
+  const int nt = static_cast<int>(tris.size());
+
+  // 3. pair triangles across manifold edges; cut non-manifold ones
+  std::vector<EdgeUse> uses = sorted_edge_uses(tris);
+  struct Pair {
+    int t0, l0, t1, l1;
+    std::uint64_t key;
+  };
+  std::vector<Pair> pairs;
+  pairs.reserve(uses.size() / 2);
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i;
+    while (j < uses.size() && uses[j].key == uses[i].key) ++j;
+    if (j - i == 2) {
+      pairs.push_back({uses[i].tri, uses[i].local, uses[i + 1].tri, uses[i + 1].local, uses[i].key});
+    } else if (j - i > 2) {
+      ++rep.non_manifold_edges;
+    }
+    i = j;
+  }
+
+  // 4. orient each component by a breadth-first walk over the pairs
+  std::vector<std::vector<int>> tri_pairs(nt);
+  for (int p = 0; p < static_cast<int>(pairs.size()); ++p) {
+    tri_pairs[pairs[p].t0].push_back(p);
+    tri_pairs[pairs[p].t1].push_back(p);
+  }
+  std::vector<char> cut(pairs.size(), 0);
+  if (opt.orient) {
+    std::vector<int> flip(nt, -1);
+    std::vector<int> queue;
+    queue.reserve(nt);
+    for (int seed = 0; seed < nt; ++seed) {
+      if (flip[seed] >= 0) continue;
+      flip[seed] = 0;
+      queue.assign(1, seed);
+      bool cut_here = false;
+      for (std::size_t qi = 0; qi < queue.size(); ++qi) {
+        int t = queue[qi];
+        for (int p : tri_pairs[t]) {
+          const Pair& pr = pairs[p];
+          int u = pr.t0 == t ? pr.t1 : pr.t0;
+          bool same = same_direction(tris[pr.t0], pr.l0, tris[pr.t1], pr.l1);
+          int want = flip[t] ^ (same ? 1 : 0);
+          if (flip[u] < 0) {
+            flip[u] = want;
+            queue.push_back(u);
+          } else if (flip[u] != want && !cut[p]) {
+            cut[p] = 1;
+            cut_here = true;
+          }
+        }
+      }
+      if (cut_here) ++rep.non_orientable_components;
+    }
+    for (int t = 0; t < nt; ++t)
+      if (flip[t] == 1) {
+        std::swap(tris[t][1], tris[t][2]);
+        ++rep.flipped_triangles;
+      }
+  }
+  // Local corner indices move with a flip (1 <-> 2): recompute them by vertex.
+  auto corner_opposite = [&](int t, std::uint64_t key) {
+    for (int k = 0; k < 3; ++k)
+      if (edge_key(tris[t][(k + 1) % 3], tris[t][(k + 2) % 3]) == key) return k;
+    return -1;
+  };
+
+  // 5. fill the mesh (vertex ids still in input numbering; compacted below)
+  mesh.clear();
+  mesh.set_dimension(d.dimension);
+  mesh.reserve(nv_in, nt);
+  for (int v = 0; v < nv_in; ++v) mesh.add_vertex(d.vertices[v]);
+  for (int t = 0; t < nt; ++t) {
+    Triangle tt = mesh.allocate_triangle();
+    for (int k = 0; k < 3; ++k) mesh.set_corner_vertex(SurfaceMesh::corner(tt, k), Vertex(tris[t][k]));
+  }
+  for (int p = 0; p < static_cast<int>(pairs.size()); ++p) {
+    if (cut[p]) continue;
+    const Pair& pr = pairs[p];
+    const std::uint64_t key = pr.key;
+    int l0 = opt.orient ? corner_opposite(pr.t0, key) : pr.l0;
+    int l1 = opt.orient ? corner_opposite(pr.t1, key) : pr.l1;
+    Corner c0 = SurfaceMesh::corner(Triangle(pr.t0), l0), c1 = SurfaceMesh::corner(Triangle(pr.t1), l1);
+    // Without orientation, an inconsistent pair cannot be linked.
+    if (!opt.orient && same_direction(tris[pr.t0], l0, tris[pr.t1], l1)) continue;
+    mesh.link(c0, c1);
+  }
+  {
+    // Tag the cut edges (corner indices recomputed after flips).
+    for (std::size_t i = 0; i < uses.size();) {
+      std::size_t j = i;
+      while (j < uses.size() && uses[j].key == uses[i].key) ++j;
+      if (j - i > 2)
+        for (std::size_t k = i; k < j; ++k) {
+          int l = corner_opposite(uses[k].tri, uses[k].key);
+          mesh.add_edge_tag(SurfaceMesh::corner(Triangle(uses[k].tri), l), kNonManifold);
+        }
+      i = j;
+    }
+  }
+
+  // 6. vertex fans: assign incident corners; split non-manifold vertices
+  std::vector<std::vector<int>> corners_of(nv_in);
+  for (int t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k) corners_of[tris[t][k]].push_back(3 * t + k);
+  std::vector<int> origin(nv_in);
+  std::iota(origin.begin(), origin.end(), 0);
+  std::vector<char> seen(3 * static_cast<std::size_t>(nt), 0);
+  for (int v = 0; v < nv_in; ++v) {
+    if (corners_of[v].empty()) continue;
+    bool first_fan = true;
+    for (int c0 : corners_of[v]) {
+      if (seen[c0]) continue;
+      // Collect this fan: walk clockwise to its start, then counter-clockwise.
+      Corner start(c0);
+      for (std::size_t guard = 0; guard <= corners_of[v].size(); ++guard) {
+        Corner n = mesh.swing_cw(start);
+        if (!n.is_valid() || n.idx == c0) break;
+        start = n;
+      }
+      Vertex target(v);
+      if (!first_fan) {
+        target = mesh.add_vertex(d.vertices[v]);
+        origin.push_back(v);
+        ++rep.non_manifold_vertices;
+      }
+      Corner c = start;
+      for (std::size_t guard = 0; guard <= corners_of[v].size(); ++guard) {
+        seen[c.idx] = 1;
+        mesh.set_corner_vertex(c, target);
+        c = mesh.swing_ccw(c);
+        if (!c.is_valid() || c == start) break;
+      }
+      mesh.set_vertex_corner(target, start);
+      first_fan = false;
+    }
+  }
+
+  // 7. tags, references and attached data (in input numbering; the mesh
+  // vertices [0, nv_in) are the file's vertices, later ones are split copies)
+  const bool has_vref = d.vertex_refs.size() == d.vertices.size();
+  for (int v = 0; v < mesh.vertex_capacity(); ++v)
+    if (has_vref) mesh.set_vertex_ref(Vertex(v), d.vertex_refs[origin[v]]);
+  if (d.triangle_refs.size() == d.triangles.size())
+    for (int t = 0; t < nt; ++t) mesh.set_triangle_ref(Triangle(t), d.triangle_refs[tri_origin[t]]);
+  // vertex lists: also apply to merged representatives and split copies
+  std::vector<std::uint8_t> file_vtags(nv_in, 0);
+  for (int v : d.corners) file_vtags[v] |= kCorner;
+  for (int v : d.required_vertices) file_vtags[v] |= kRequired;
+  for (int v = 0; v < nv_in; ++v)
+    if (rep_of[v] != v) file_vtags[rep_of[v]] |= file_vtags[v];
+  for (int v = 0; v < mesh.vertex_capacity(); ++v) mesh.set_vertex_tags(Vertex(v), file_vtags[origin[v]]);
+  {
+    std::vector<char> req_tri(d.triangles.size(), 0);
+    for (int t : d.required_triangles) req_tri[t] = 1;
+    for (int t = 0; t < nt; ++t)
+      if (req_tri[tri_origin[t]]) mesh.set_triangle_tags(Triangle(t), kRequired);
+  }
+  // edges
+  {
+    std::vector<std::uint8_t> etags(d.edges.size(), kListed);
+    for (int e : d.ridges) etags[e] |= kRidge;
+    for (int e : d.required_edges) etags[e] |= kRequired;
+    const bool has_eref = d.edge_refs.size() == d.edges.size();
+    for (std::size_t e = 0; e < d.edges.size(); ++e) {
+      int a = rep_of[d.edges[e][0]], b = rep_of[d.edges[e][1]];
+      Corner c;
+      if (a != b) {
+        // search among every copy of a (split vertices share the origin)
+        for (int c0 : corners_of[a]) {
+          if (origin[mesh.vertex(SurfaceMesh::next(Corner(c0))).idx] == b)
+            c = SurfaceMesh::prev(Corner(c0));
+          else if (origin[mesh.vertex(SurfaceMesh::prev(Corner(c0))).idx] == b)
+            c = SurfaceMesh::next(Corner(c0));
+          if (c.is_valid()) break;
+        }
+      }
+      if (!c.is_valid()) {
+        ++rep.dropped_edges;
+        continue;
+      }
+      mesh.set_edge_tags(c, mesh.edge_tags(c) | etags[e]);
+      if (has_eref) mesh.set_edge_ref(c, d.edge_refs[e]);
+    }
+    if (rep.dropped_edges)
+      rep.warnings.push_back(source + ": " + std::to_string(rep.dropped_edges) +
+                             " listed edges are not edges of any triangle and were dropped");
+  }
+  // normals and tangents
+  auto attach_vectors = [&](const std::vector<Vec3>& vecs, const std::vector<std::array<int, 2>>& at,
+                            const char* name, const char* flag) {
+    if (at.empty()) return;
+    auto prop = mesh.vertex_property<Vec3>(name);
+    auto has = mesh.vertex_property<std::uint8_t>(flag, 0);
+    for (const auto& [v, n] : at) {
+      if (v < 0 || v >= nv_in || n < 0 || n >= static_cast<int>(vecs.size()))
+        throw TopologyError(source + ": " + name + " at vertex " + std::to_string(v + 1) + " refers to " + name +
+                            " " + std::to_string(n + 1) + ", out of range");
+      int target = rep_of[v];
+      prop[Vertex(target)] = vecs[n];
+      has[Vertex(target)] = 1;
+    }
+    for (int v = nv_in; v < mesh.vertex_capacity(); ++v)
+      if (has[Vertex(origin[v])]) {
+        prop[Vertex(v)] = prop[Vertex(origin[v])];
+        has[Vertex(v)] = 1;
+      }
+  };
+  attach_vectors(d.normals, d.normal_at_vertex, "normal", "has_normal");
+  attach_vectors(d.tangents, d.tangent_at_vertex, "tangent", "has_tangent");
+  for (const auto& f : d.fields) {
+    auto prop = mesh.add_field(f.info.name, f.info.kind, f.info.ncomp);
+    for (int v = 0; v < mesh.vertex_capacity(); ++v) {
+      int o = origin[v];
+      for (int k = 0; k < f.info.ncomp; ++k) prop[Vertex(v)][k] = f.values[static_cast<std::size_t>(o) * f.info.ncomp + k];
+    }
+  }
+
+  // 8. drop unreferenced vertices, renumber compactly
+  for (int v = 0; v < mesh.vertex_capacity(); ++v)
+    if (mesh.is_isolated(Vertex(v))) {
+      if (rep_of[origin[v]] != origin[v])
+        ++rep.merged_vertices;
+      else if (opt.drop_unreferenced)
+        ++rep.unreferenced_vertices;
+      else
+        continue;
+      mesh.delete_vertex(Vertex(v));
+    }
+  CompactMap map = mesh.compact();
+  rep.vertex_origin.assign(mesh.vertex_capacity(), -1);
+  for (std::size_t v = 0; v < map.vertex.size(); ++v)
+    if (map.vertex[v] >= 0) rep.vertex_origin[map.vertex[v]] = origin[v];
+  rep.vertex_map.assign(nv_in, -1);
+  for (int v = 0; v < nv_in; ++v) rep.vertex_map[v] = map.vertex[rep_of[v]];
+  rep.triangle_origin = tri_origin;
+
+  mesh.update_boundary_tags();
+  for (int t = 0; t < mesh.triangle_capacity(); ++t)
+    if (mesh.triangle_area(Triangle(t)) == 0.0) ++rep.zero_area_triangles;
+  for (const auto& m : rep.repair_messages()) rep.warnings.push_back(source + ": " + m);
+  return rep;
+}
+
+MeshData to_mesh_data(const SurfaceMesh& mesh) {
+  MeshData d;
+  d.dimension = mesh.dimension();
+  std::vector<int> vid(mesh.vertex_capacity(), -1);
+  for (int v = 0; v < mesh.vertex_capacity(); ++v) {
+    Vertex vh(v);
+    if (mesh.is_deleted(vh)) continue;
+    vid[v] = static_cast<int>(d.vertices.size());
+    d.vertices.push_back(mesh.position(vh));
+    d.vertex_refs.push_back(mesh.vertex_ref(vh));
+    if (mesh.has_tag(vh, kCorner)) d.corners.push_back(vid[v]);
+    if (mesh.has_tag(vh, kRequired)) d.required_vertices.push_back(vid[v]);
+  }
+  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
+    Triangle th(t);
+    if (mesh.is_deleted(th)) continue;
+    if (mesh.has_tag(th, kRequired)) d.required_triangles.push_back(static_cast<int>(d.triangles.size()));
+    d.triangles.push_back({vid[mesh.vertex(th, 0).idx], vid[mesh.vertex(th, 1).idx], vid[mesh.vertex(th, 2).idx]});
+    d.triangle_refs.push_back(mesh.triangle_ref(th));
+    for (int k = 0; k < 3; ++k) {
+      Corner c = SurfaceMesh::corner(th, k);
+      if (mesh.canonical(c) != c) continue;
+      std::uint8_t tg = mesh.edge_tags(c);
+      if (!(tg & (kListed | kRidge | kRequired)) && mesh.edge_ref(c) == 0) continue;
+      int e = static_cast<int>(d.edges.size());
+      d.edges.push_back({vid[mesh.edge_from(c).idx], vid[mesh.edge_to(c).idx]});
+      d.edge_refs.push_back(mesh.edge_ref(c));
+      if (tg & kRidge) d.ridges.push_back(e);
+      if (tg & kRequired) d.required_edges.push_back(e);
+    }
+  }
+  auto export_vectors = [&](const char* name, const char* flag, std::vector<Vec3>& vecs,
+                            std::vector<std::array<int, 2>>& at) {
+    auto prop = mesh.get_vertex_property<Vec3>(name);
+    auto has = mesh.get_vertex_property<std::uint8_t>(flag);
+    if (!prop || !has) return;
+    for (int v = 0; v < mesh.vertex_capacity(); ++v)
+      if (vid[v] >= 0 && has[Vertex(v)]) {
+        at.push_back({vid[v], static_cast<int>(vecs.size())});
+        vecs.push_back(prop[Vertex(v)]);
+      }
+  };
+  export_vectors("normal", "has_normal", d.normals, d.normal_at_vertex);
+  export_vectors("tangent", "has_tangent", d.tangents, d.tangent_at_vertex);
+  for (const auto& info : mesh.fields()) {
+    auto prop = mesh.get_field(info.name);
+    if (!prop) continue;
+    FieldData f{info, {}};
+    f.values.reserve(d.vertices.size() * info.ncomp);
+    for (int v = 0; v < mesh.vertex_capacity(); ++v)
+      if (vid[v] >= 0)
+        for (int k = 0; k < info.ncomp; ++k) f.values.push_back(prop[Vertex(v)][k]);
+    d.fields.push_back(std::move(f));
+  }
+  return d;
+}
+
+}  // namespace anisurf

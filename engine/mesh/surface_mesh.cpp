@@ -1,0 +1,475 @@
+#include "mesh/surface_mesh.h"
+
+#include <algorithm>
+#include <cassert>
+#include <sstream>
+
+namespace anisurf {
+
+std::string ValidationReport::summary(std::size_t max_lines) const {
+  std::ostringstream ss;
+  for (std::size_t i = 0; i < errors.size() && i < max_lines; ++i) ss << errors[i] << "\n";
+  if (errors.size() > max_lines) ss << "... and " << errors.size() - max_lines << " more\n";
+  return ss.str();
+}
+
+SurfaceMesh::SurfaceMesh() = default;
+SurfaceMesh::SurfaceMesh(const SurfaceMesh&) = default;
+SurfaceMesh& SurfaceMesh::operator=(const SurfaceMesh&) = default;
+
+// --- navigation ---------------------------------------------------------------
+
+Corner SurfaceMesh::swing_ccw(Corner c) const {
+  // The triangle counter-clockwise of c's triangle around v lies across the
+  // edge (prev(c) -> v), which is the edge opposite next(c).
+  int o = to_[next(c).idx];
+  return o < 0 ? Corner() : next(Corner(o));
+}
+
+Corner SurfaceMesh::swing_cw(Corner c) const {
+  // Across the edge (v -> next(c)), opposite prev(c).
+  int o = to_[prev(c).idx];
+  return o < 0 ? Corner() : prev(Corner(o));
+}
+
+bool SurfaceMesh::is_boundary(Vertex v) const {
+  int c = vcorner_[v.idx];
+  if (c < 0) return false;
+  return to_[prev(Corner(c)).idx] < 0;
+}
+
+std::vector<Corner> SurfaceMesh::fan(Vertex v) const {
+  std::vector<Corner> out;
+  Corner start = corner(v);
+  if (!start.is_valid()) return out;
+  Corner c = start;
+  do {
+    out.push_back(c);
+    c = swing_ccw(c);
+  } while (c.is_valid() && c != start && out.size() <= tv_.size());
+  return out;
+}
+
+int SurfaceMesh::valence(Vertex v) const {
+  // Number of distinct neighbours: triangles in the fan, plus one on a boundary.
+  int n = static_cast<int>(fan(v).size());
+  return is_boundary(v) ? n + 1 : n;
+}
+
+Corner SurfaceMesh::corner_of(Triangle t, Vertex v) const {
+  for (int k = 0; k < 3; ++k)
+    if (tv_[3 * t.idx + k] == v.idx) return Corner(3 * t.idx + k);
+  return Corner();
+}
+
+Corner SurfaceMesh::find_edge(Vertex a, Vertex b) const {
+  // The directed edge a->b is opposite prev(c) for the corner c at a whose
+  // next vertex is b.
+  for (Corner c : fan(a))
+    if (vertex(next(c)) == b) return prev(c);
+  return Corner();
+}
+
+// --- geometry -----------------------------------------------------------------
+
+Vec3 SurfaceMesh::triangle_normal(Triangle t) const {
+  const Vec3& a = vpos_[tv_[3 * t.idx]];
+  const Vec3& b = vpos_[tv_[3 * t.idx + 1]];
+  const Vec3& c = vpos_[tv_[3 * t.idx + 2]];
+  return cross(b - a, c - a);
+}
+
+double SurfaceMesh::triangle_area(Triangle t) const { return 0.5 * norm(triangle_normal(t)); }
+
+BBox SurfaceMesh::bbox() const {
+  BBox b;
+  for (int i = 0; i < vertex_capacity(); ++i)
+    if (vcorner_[i] != kDeletedMark) b.add(vpos_[i]);
+  return b;
+}
+
+// --- tags -----------------------------------------------------------------------
+
+void SurfaceMesh::set_edge_tags(Corner c, std::uint8_t t) {
+  etag_[c.idx] = t;
+  int o = to_[c.idx];
+  if (o >= 0) etag_[o] = t;
+}
+
+void SurfaceMesh::set_edge_ref(Corner c, int r) {
+  eref_[c.idx] = r;
+  int o = to_[c.idx];
+  if (o >= 0) eref_[o] = r;
+}
+
+void SurfaceMesh::update_boundary_tags() {
+  for (int v = 0; v < vertex_capacity(); ++v)
+    if (vcorner_[v] != kDeletedMark) vtag_[v] &= static_cast<std::uint8_t>(~kBoundary);
+  for (int t = 0; t < triangle_capacity(); ++t) {
+    if (tv_[3 * t] < 0) continue;
+    for (int k = 0; k < 3; ++k) {
+      int c = 3 * t + k;
+      if (to_[c] < 0) {
+        etag_[c] |= kBoundary;
+        vtag_[tv_[next(Corner(c)).idx]] |= kBoundary;
+        vtag_[tv_[prev(Corner(c)).idx]] |= kBoundary;
+      } else {
+        etag_[c] &= static_cast<std::uint8_t>(~kBoundary);
+      }
+    }
+  }
+}
+
+// --- mutation -------------------------------------------------------------------
+
+void SurfaceMesh::push_vertex_slot() {
+  vpos_.emplace_back();
+  vcorner_.push_back(-1);
+  vtag_.push_back(0);
+  vref_.push_back(0);
+  vprops_.push_back();
+}
+
+void SurfaceMesh::push_triangle_slot() {
+  for (int k = 0; k < 3; ++k) {
+    tv_.push_back(-1);
+    to_.push_back(-1);
+    etag_.push_back(0);
+    eref_.push_back(0);
+  }
+  ttag_.push_back(0);
+  tref_.push_back(0);
+  tprops_.push_back();
+}
+
+Vertex SurfaceMesh::add_vertex(const Vec3& p) {
+  int v;
+  if (!free_vertices_.empty()) {
+    v = free_vertices_.back();
+    free_vertices_.pop_back();
+    vprops_.reset(static_cast<std::size_t>(v));
+  } else {
+    v = vertex_capacity();
+    push_vertex_slot();
+  }
+  vpos_[v] = p;
+  vcorner_[v] = -1;
+  vtag_[v] = 0;
+  vref_[v] = 0;
+  return Vertex(v);
+}
+
+Triangle SurfaceMesh::allocate_triangle() {
+  int t;
+  if (!free_triangles_.empty()) {
+    t = free_triangles_.back();
+    free_triangles_.pop_back();
+    tprops_.reset(static_cast<std::size_t>(t));
+  } else {
+    t = triangle_capacity();
+    push_triangle_slot();
+  }
+  for (int k = 0; k < 3; ++k) {
+    tv_[3 * t + k] = -1;
+    to_[3 * t + k] = -1;
+    etag_[3 * t + k] = 0;
+    eref_[3 * t + k] = 0;
+  }
+  ttag_[t] = 0;
+  tref_[t] = 0;
+  return Triangle(t);
+}
+
+void SurfaceMesh::link(Corner a, Corner b) {
+  to_[a.idx] = b.idx;
+  if (b.is_valid()) to_[b.idx] = a.idx;
+}
+
+void SurfaceMesh::update_vertex_corner(Vertex v) {
+  int c0 = vcorner_[v.idx];
+  if (c0 < 0) return;
+  // Walk clockwise until the boundary (or back to the start).
+  Corner start(c0), c = start;
+  std::size_t guard = 0;
+  while (true) {
+    Corner n = swing_cw(c);
+    if (!n.is_valid() || n == start || ++guard > tv_.size()) break;
+    c = n;
+  }
+  vcorner_[v.idx] = c.idx;
+}
+
+Triangle SurfaceMesh::add_triangle(Vertex a, Vertex b, Vertex c) {
+  assert(a != b && b != c && a != c);
+  // Find the neighbours first (before this triangle's own corners exist).
+  const Vertex vs[3] = {a, b, c};
+  Corner across[3];
+  for (int k = 0; k < 3; ++k) {
+    // Edge opposite corner k goes vs[k+1] -> vs[k+2]; its twin is vs[k+2] -> vs[k+1].
+    Vertex from = vs[(k + 2) % 3], to = vs[(k + 1) % 3];
+    Corner e = is_isolated(from) ? Corner() : find_edge(from, to);
+    across[k] = (e.is_valid() && to_[e.idx] < 0) ? e : Corner();
+  }
+  Triangle t = allocate_triangle();
+  for (int k = 0; k < 3; ++k) tv_[3 * t.idx + k] = vs[k].idx;
+  for (int k = 0; k < 3; ++k)
+    if (across[k].is_valid()) {
+      link(corner(t, k), across[k]);
+      etag_[3 * t.idx + k] = etag_[across[k].idx];
+      eref_[3 * t.idx + k] = eref_[across[k].idx];
+    }
+  for (int k = 0; k < 3; ++k) {
+    if (vcorner_[vs[k].idx] < 0) vcorner_[vs[k].idx] = 3 * t.idx + k;
+    update_vertex_corner(vs[k]);
+  }
+  return t;
+}
+
+void SurfaceMesh::delete_triangle(Triangle t) {
+  if (is_deleted(t)) return;
+  int verts[3];
+  int replacement[3];
+  for (int k = 0; k < 3; ++k) {
+    Corner c = corner(t, k);
+    verts[k] = tv_[c.idx];
+    // Another corner at the same vertex, found before the links are cut.
+    Corner other = swing_ccw(c);
+    if (!other.is_valid()) other = swing_cw(c);
+    replacement[k] = other.is_valid() ? other.idx : -1;
+  }
+  for (int k = 0; k < 3; ++k) {
+    int c = 3 * t.idx + k;
+    if (to_[c] >= 0) to_[to_[c]] = -1;
+    to_[c] = -1;
+    tv_[c] = -1;
+    etag_[c] = 0;
+    eref_[c] = 0;
+  }
+  ttag_[t.idx] = 0;
+  tref_[t.idx] = 0;
+  free_triangles_.push_back(t.idx);
+  for (int k = 0; k < 3; ++k) {
+    int v = verts[k];
+    if (vcorner_[v] >= 0 && vcorner_[v] / 3 == t.idx) vcorner_[v] = replacement[k];
+    update_vertex_corner(Vertex(v));
+  }
+}
+
+void SurfaceMesh::delete_vertex(Vertex v) {
+  if (is_deleted(v)) return;
+  vcorner_[v.idx] = kDeletedMark;
+  vtag_[v.idx] = 0;
+  free_vertices_.push_back(v.idx);
+}
+
+CompactMap SurfaceMesh::compact() {
+  CompactMap map;
+  map.vertex.assign(vpos_.size(), -1);
+  map.triangle.assign(tv_.size() / 3, -1);
+  int nv = 0, nt = 0;
+  for (std::size_t v = 0; v < vpos_.size(); ++v)
+    if (vcorner_[v] != kDeletedMark) map.vertex[v] = nv++;
+  for (std::size_t t = 0; t < tv_.size() / 3; ++t)
+    if (tv_[3 * t] >= 0) map.triangle[t] = nt++;
+
+  auto corner_map = [&](int c) { return c < 0 ? c : 3 * map.triangle[c / 3] + c % 3; };
+
+  std::vector<Vec3> pos(nv);
+  std::vector<int> vc(nv);
+  std::vector<std::uint8_t> vt(nv);
+  std::vector<int> vr(nv);
+  for (std::size_t v = 0; v < vpos_.size(); ++v) {
+    int n = map.vertex[v];
+    if (n < 0) continue;
+    pos[n] = vpos_[v];
+    vc[n] = corner_map(vcorner_[v]);
+    vt[n] = vtag_[v];
+    vr[n] = vref_[v];
+  }
+  std::vector<int> tv(3 * nt), to(3 * nt), er(3 * nt);
+  std::vector<std::uint8_t> et(3 * nt), tt(nt);
+  std::vector<int> tr(nt);
+  for (std::size_t t = 0; t < tv_.size() / 3; ++t) {
+    int n = map.triangle[t];
+    if (n < 0) continue;
+    for (int k = 0; k < 3; ++k) {
+      tv[3 * n + k] = map.vertex[tv_[3 * t + k]];
+      to[3 * n + k] = corner_map(to_[3 * t + k]);
+      et[3 * n + k] = etag_[3 * t + k];
+      er[3 * n + k] = eref_[3 * t + k];
+    }
+    tt[n] = ttag_[t];
+    tr[n] = tref_[t];
+  }
+  vpos_.swap(pos);
+  vcorner_.swap(vc);
+  vtag_.swap(vt);
+  vref_.swap(vr);
+  tv_.swap(tv);
+  to_.swap(to);
+  etag_.swap(et);
+  eref_.swap(er);
+  ttag_.swap(tt);
+  tref_.swap(tr);
+  free_vertices_.clear();
+  free_triangles_.clear();
+  vprops_.compact(map.vertex, static_cast<std::size_t>(nv));
+  tprops_.compact(map.triangle, static_cast<std::size_t>(nt));
+  return map;
+}
+
+void SurfaceMesh::clear() {
+  vpos_.clear();
+  vcorner_.clear();
+  vtag_.clear();
+  vref_.clear();
+  tv_.clear();
+  to_.clear();
+  etag_.clear();
+  eref_.clear();
+  ttag_.clear();
+  tref_.clear();
+  free_vertices_.clear();
+  free_triangles_.clear();
+  vprops_.resize(0);
+  tprops_.resize(0);
+}
+
+void SurfaceMesh::reserve(int nv, int nt) {
+  vpos_.reserve(nv);
+  vcorner_.reserve(nv);
+  vtag_.reserve(nv);
+  vref_.reserve(nv);
+  tv_.reserve(3 * static_cast<std::size_t>(nt));
+  to_.reserve(3 * static_cast<std::size_t>(nt));
+  etag_.reserve(3 * static_cast<std::size_t>(nt));
+  eref_.reserve(3 * static_cast<std::size_t>(nt));
+  ttag_.reserve(nt);
+  tref_.reserve(nt);
+  vprops_.reserve(nv);
+  tprops_.reserve(nt);
+}
+
+// --- fields -----------------------------------------------------------------------
+
+Property<FieldValue> SurfaceMesh::add_field(const std::string& name, FieldKind kind, int ncomp) {
+  auto p = vprops_.add<FieldValue>("field:" + name, FieldValue{});
+  fields_.push_back(FieldInfo{name, kind, ncomp});
+  return p;
+}
+
+Property<FieldValue> SurfaceMesh::get_field(const std::string& name) const {
+  return vprops_.get<FieldValue>("field:" + name);
+}
+
+// --- validation -----------------------------------------------------------------
+
+ValidationReport SurfaceMesh::validate() const {
+  ValidationReport r;
+  auto err = [&](const std::string& s) {
+    if (r.errors.size() < 1000) r.errors.push_back(s);
+  };
+  const int nv = vertex_capacity(), nt = triangle_capacity();
+  if (vcorner_.size() != vpos_.size() || vtag_.size() != vpos_.size() || vref_.size() != vpos_.size())
+    err("vertex arrays have different sizes");
+  if (to_.size() != tv_.size() || etag_.size() != tv_.size() || eref_.size() != tv_.size() ||
+      ttag_.size() * 3 != tv_.size() || tref_.size() * 3 != tv_.size())
+    err("triangle arrays have different sizes");
+  if (!r.ok()) return r;
+  if (vprops_.size() != vpos_.size() || !vprops_.sizes_consistent()) err("vertex property arrays not sized");
+  if (tprops_.size() != static_cast<std::size_t>(nt) || !tprops_.sizes_consistent())
+    err("triangle property arrays not sized");
+
+  // free lists
+  std::vector<char> vfree(nv, 0), tfree(nt, 0);
+  for (int v : free_vertices_) {
+    if (v < 0 || v >= nv) { err("free vertex " + std::to_string(v) + " out of range"); continue; }
+    if (vfree[v]++) err("vertex " + std::to_string(v) + " twice in the free list");
+    if (vcorner_[v] != kDeletedMark) err("free vertex " + std::to_string(v) + " not marked deleted");
+  }
+  for (int t : free_triangles_) {
+    if (t < 0 || t >= nt) { err("free triangle " + std::to_string(t) + " out of range"); continue; }
+    if (tfree[t]++) err("triangle " + std::to_string(t) + " twice in the free list");
+    if (tv_[3 * t] >= 0) err("free triangle " + std::to_string(t) + " not marked deleted");
+  }
+  for (int v = 0; v < nv; ++v)
+    if (vcorner_[v] == kDeletedMark && !vfree[v]) err("deleted vertex " + std::to_string(v) + " not in the free list");
+  for (int t = 0; t < nt; ++t)
+    if (tv_[3 * t] < 0 && !tfree[t]) err("deleted triangle " + std::to_string(t) + " not in the free list");
+
+  // triangles and opposite links
+  std::vector<int> corners_at(nv, 0);
+  for (int t = 0; t < nt; ++t) {
+    if (tv_[3 * t] < 0) {
+      if (tv_[3 * t + 1] >= 0 || tv_[3 * t + 2] >= 0) err("deleted triangle " + std::to_string(t) + " has vertices");
+      continue;
+    }
+    const std::string ts = "triangle " + std::to_string(t);
+    bool ids_ok = true;
+    for (int k = 0; k < 3; ++k) {
+      int v = tv_[3 * t + k];
+      if (v < 0 || v >= nv || vcorner_[v] == kDeletedMark) {
+        err(ts + ": vertex id " + std::to_string(v) + " invalid or deleted");
+        ids_ok = false;
+      }
+    }
+    if (!ids_ok) continue;
+    for (int k = 0; k < 3; ++k) ++corners_at[tv_[3 * t + k]];
+    if (tv_[3 * t] == tv_[3 * t + 1] || tv_[3 * t + 1] == tv_[3 * t + 2] || tv_[3 * t] == tv_[3 * t + 2])
+      err(ts + ": degenerate (repeated vertex)");
+    for (int k = 0; k < 3; ++k) {
+      int c = 3 * t + k, o = to_[c];
+      if (o < 0) continue;
+      if (o >= static_cast<int>(tv_.size()) || tv_[3 * (o / 3)] < 0) {
+        err(ts + ": opposite corner " + std::to_string(o) + " invalid or deleted");
+        continue;
+      }
+      if (o / 3 == t) err(ts + ": linked to itself");
+      if (to_[o] != c) err(ts + ": opposite link of corner " + std::to_string(c) + " not symmetric");
+      Corner cc(c), oc(o);
+      if (vertex(next(cc)) != vertex(prev(oc)) || vertex(prev(cc)) != vertex(next(oc)))
+        err(ts + ": edge of corner " + std::to_string(c) + " does not match its opposite (orientation)");
+      if (etag_[c] != etag_[o] || eref_[c] != eref_[o])
+        err(ts + ": edge data of corner " + std::to_string(c) + " differs from its opposite");
+    }
+  }
+
+  // vertex fans: the stored corner belongs to v, the fan from it is complete
+  // (every corner of v is reached), and a boundary fan starts at the boundary.
+  for (int v = 0; v < nv; ++v) {
+    int c = vcorner_[v];
+    if (c == kDeletedMark) continue;
+    const std::string vs = "vertex " + std::to_string(v);
+    if (c < 0) {
+      if (corners_at[v] != 0) err(vs + ": marked isolated but used by triangles");
+      continue;
+    }
+    if (c >= static_cast<int>(tv_.size()) || tv_[c] != v) {
+      err(vs + ": incident corner " + std::to_string(c) + " does not belong to it");
+      continue;
+    }
+    int count = 0;
+    bool closed = false;
+    Corner start(c), cur = start;
+    while (true) {
+      ++count;
+      if (tv_[cur.idx] != v) {
+        err(vs + ": fan walk reached a corner of another vertex");
+        break;
+      }
+      Corner n = swing_ccw(cur);
+      if (!n.is_valid()) break;
+      if (n == start) { closed = true; break; }
+      if (count > corners_at[v]) break;
+      cur = n;
+    }
+    if (count != corners_at[v])
+      err(vs + ": non-manifold or broken fan (" + std::to_string(count) + " of " + std::to_string(corners_at[v]) +
+          " corners reached)");
+    if (!closed && to_[prev(start).idx] >= 0)
+      err(vs + ": open fan does not start at its boundary edge");
+  }
+  return r;
+}
+
+}  // namespace anisurf

@@ -1,0 +1,389 @@
+// The mesh core: corner table invariants, building from soups with repairs,
+// free lists, compact(), properties, validate() catching corruption.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/error.h"
+#include "mesh/build.h"
+#include "mesh/stats.h"
+#include "mesh/surface_mesh.h"
+
+using namespace anisurf;
+
+namespace {
+
+MeshData tetrahedron() {
+  MeshData d;
+  d.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  d.triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  return d;
+}
+
+// n x n grid of the unit square, 2 n^2 triangles, counter-clockwise seen from +z.
+MeshData grid(int n) {
+  MeshData d;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) d.vertices.push_back({double(i) / n, double(j) / n, 0});
+  auto id = [n](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      d.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      d.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return d;
+}
+
+void require_valid(const SurfaceMesh& m) {
+  auto r = m.validate();
+  INFO(r.summary());
+  REQUIRE(r.ok());
+}
+
+// Every triangle's normal points to +z (grid meshes).
+bool all_up(const SurfaceMesh& m) {
+  for (int t = 0; t < m.triangle_capacity(); ++t)
+    if (!m.is_deleted(Triangle(t)) && m.triangle_normal(Triangle(t)).z <= 0) return false;
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("tetrahedron: closed, consistent, Euler 2") {
+  SurfaceMesh m;
+  auto rep = build_mesh(tetrahedron(), m);
+  require_valid(m);
+  CHECK_FALSE(rep.repaired());
+  auto s = compute_stats(m);
+  CHECK(s.vertices == 4);
+  CHECK(s.triangles == 4);
+  CHECK(s.edges == 6);
+  CHECK(s.euler_characteristic == 2);
+  CHECK(s.boundary_edges == 0);
+  CHECK(s.components == 1);
+  for (int v = 0; v < 4; ++v) {
+    CHECK(m.valence(Vertex(v)) == 3);
+    CHECK_FALSE(m.is_boundary(Vertex(v)));
+  }
+  // outward normals: the centroid side
+  Vec3 centre{0.25, 0.25, 0.25};
+  for (int t = 0; t < 4; ++t) {
+    Vec3 p = m.position(m.vertex(Triangle(t), 0));
+    CHECK(dot(m.triangle_normal(Triangle(t)), p - centre) > 0);
+  }
+}
+
+TEST_CASE("grid: boundary fans start at the boundary, swings are inverse") {
+  SurfaceMesh m;
+  build_mesh(grid(4), m);
+  require_valid(m);
+  auto s = compute_stats(m);
+  CHECK(s.boundary_edges == 16);
+  CHECK(s.boundary_loops == 1);
+  CHECK(s.euler_characteristic == 1);
+  for (int v = 0; v < m.vertex_capacity(); ++v) {
+    Vertex vh(v);
+    for (Corner c : m.fan(vh)) {
+      CHECK(m.vertex(c) == vh);
+      Corner n = m.swing_ccw(c);
+      if (n.is_valid()) CHECK(m.swing_cw(n) == c);
+    }
+    if (m.is_boundary(vh)) CHECK_FALSE(m.swing_cw(m.corner(vh)).is_valid());
+  }
+  // interior vertex of a regular grid: valence 6
+  CHECK(m.valence(Vertex(6)) == 6);
+  // find_edge gives the directed edge
+  Corner e = m.find_edge(Vertex(0), Vertex(1));
+  REQUIRE(e.is_valid());
+  CHECK(m.edge_from(e) == Vertex(0));
+  CHECK(m.edge_to(e) == Vertex(1));
+  CHECK(m.is_boundary_edge(e));
+}
+
+TEST_CASE("build orients components and reports flips") {
+  MeshData d = grid(3);
+  // flip every other triangle
+  for (std::size_t t = 0; t < d.triangles.size(); t += 2) std::swap(d.triangles[t][1], d.triangles[t][2]);
+  SurfaceMesh m;
+  auto rep = build_mesh(d, m);
+  require_valid(m);
+  CHECK(rep.flipped_triangles > 0);
+  // consistent: all up or all down
+  int up = 0;
+  for (int t = 0; t < m.triangle_capacity(); ++t) up += m.triangle_normal(Triangle(t)).z > 0;
+  CHECK((up == 0 || up == m.n_triangles()));
+  CHECK(compute_stats(m).boundary_edges == 12);
+}
+
+TEST_CASE("build drops degenerate, duplicated triangles and unreferenced vertices") {
+  MeshData d = grid(2);
+  d.triangles.push_back(d.triangles[0]);                    // duplicate
+  d.triangles.push_back({d.triangles[1][0], d.triangles[1][2], d.triangles[1][1]});  // reversed duplicate
+  d.triangles.push_back({0, 0, 1});                         // degenerate
+  d.vertices.push_back({5, 5, 5});                          // unreferenced
+  SurfaceMesh m;
+  auto rep = build_mesh(d, m);
+  require_valid(m);
+  CHECK(rep.duplicate_triangles == 2);
+  CHECK(rep.degenerate_triangles == 1);
+  CHECK(rep.unreferenced_vertices == 1);
+  CHECK(m.n_triangles() == 8);
+  CHECK(m.n_vertices() == 9);
+  CHECK(rep.vertex_map.back() == -1);
+  CHECK(rep.repaired());
+}
+
+TEST_CASE("non-manifold edge is cut, non-manifold vertex is split") {
+  SUBCASE("three triangles on one edge") {
+    MeshData d;
+    d.vertices = {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0}, {0.5, 0, 1}};
+    d.triangles = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
+    SurfaceMesh m;
+    auto rep = build_mesh(d, m);
+    require_valid(m);
+    CHECK(rep.non_manifold_edges == 1);
+    CHECK(compute_stats(m).non_manifold_edges >= 1);
+  }
+  SUBCASE("bow tie: two triangles touching at a vertex") {
+    MeshData d;
+    d.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 0}, {-1, -1, 0}};
+    d.triangles = {{0, 1, 2}, {0, 3, 4}};
+    SurfaceMesh m;
+    auto rep = build_mesh(d, m);
+    require_valid(m);
+    CHECK(rep.non_manifold_vertices == 1);
+    CHECK(m.n_vertices() == 6);
+    CHECK(compute_stats(m).components == 2);
+    // both copies come from file vertex 0
+    int from0 = 0;
+    for (int o : rep.vertex_origin) from0 += o == 0;
+    CHECK(from0 == 2);
+  }
+}
+
+TEST_CASE("Moebius strip: non-orientable, cut to stay valid") {
+  MeshData d;
+  const int n = 12;
+  for (int i = 0; i < n; ++i) {
+    double a = 2 * M_PI * i / n;
+    for (int s = -1; s <= 1; s += 2) {
+      double w = 0.3 * s;
+      d.vertices.push_back({(1 + w * std::cos(a / 2)) * std::cos(a), (1 + w * std::cos(a / 2)) * std::sin(a),
+                            w * std::sin(a / 2)});
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    int a0 = 2 * i, a1 = 2 * i + 1;
+    int b0 = 2 * ((i + 1) % n), b1 = 2 * ((i + 1) % n) + 1;
+    if (i == n - 1) std::swap(b0, b1);  // the half twist
+    d.triangles.push_back({a0, b0, b1});
+    d.triangles.push_back({a0, b1, a1});
+  }
+  SurfaceMesh m;
+  auto rep = build_mesh(d, m);
+  require_valid(m);
+  CHECK(rep.non_orientable_components == 1);
+}
+
+TEST_CASE("split vertices are merged with a tolerance relative to the box") {
+  MeshData d = grid(2);
+  MeshData s;  // every triangle with its own copies, with tiny noise
+  for (const auto& t : d.triangles)
+    for (int k = 0; k < 3; ++k) {
+      Vec3 p = d.vertices[t[k]];
+      p.x += 1e-13 * (k + 1);
+      s.vertices.push_back(p);
+    }
+  for (int t = 0; t < static_cast<int>(d.triangles.size()); ++t) s.triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+  s.split_vertices = true;
+  SurfaceMesh m;
+  auto rep = build_mesh(s, m);
+  require_valid(m);
+  CHECK(m.n_vertices() == 9);
+  CHECK(rep.merged_vertices == static_cast<int>(s.vertices.size()) - 9);
+  CHECK(compute_stats(m).boundary_edges == 8);
+}
+
+TEST_CASE("refused input names the problem") {
+  SurfaceMesh m;
+  MeshData empty;
+  CHECK_THROWS_AS(build_mesh(empty, m, {}, "empty.obj"), TopologyError);
+  try {
+    build_mesh(empty, m, {}, "empty.obj");
+  } catch (const TopologyError& e) {
+    CHECK(std::string(e.what()).find("empty.obj") != std::string::npos);
+    CHECK(std::string(e.what()).find("no triangle") != std::string::npos);
+  }
+  MeshData bad = tetrahedron();
+  bad.triangles[2][1] = 7;
+  CHECK_THROWS_AS(build_mesh(bad, m), TopologyError);
+  MeshData nan = tetrahedron();
+  nan.vertices[1].y = NAN;
+  CHECK_THROWS_AS(build_mesh(nan, m), TopologyError);
+}
+
+TEST_CASE("tags, references, normals and fields survive build and to_mesh_data") {
+  MeshData d = grid(2);
+  d.triangle_refs.assign(d.triangles.size(), 0);
+  d.triangle_refs[3] = 7;
+  d.vertex_refs.assign(d.vertices.size(), 0);
+  d.vertex_refs[4] = 3;
+  d.edges = {{0, 1}, {1, 2}, {0, 4}};
+  d.edge_refs = {10, 11, 12};
+  d.ridges = {2};
+  d.required_edges = {0};
+  d.corners = {0, 2};
+  d.required_vertices = {8};
+  d.required_triangles = {5};
+  d.normals = {{0, 0, 1}};
+  d.normal_at_vertex = {{4, 0}};
+  FieldData f{{"h", FieldKind::Scalar, 1}, {}};
+  for (std::size_t v = 0; v < d.vertices.size(); ++v) f.values.push_back(0.5 + v);
+  d.fields.push_back(f);
+  SurfaceMesh m;
+  build_mesh(d, m);
+  require_valid(m);
+  Corner e = m.find_edge(Vertex(0), Vertex(4));
+  if (!e.is_valid()) e = m.find_edge(Vertex(4), Vertex(0));
+  REQUIRE(e.is_valid());
+  CHECK(m.has_tag(e, kRidge));
+  CHECK(m.edge_ref(e) == 12);
+  CHECK(m.has_tag(Vertex(0), kCorner));
+  CHECK(m.has_tag(Vertex(8), kRequired));
+  CHECK(m.vertex_ref(Vertex(4)) == 3);
+  CHECK(m.triangle_ref(Triangle(3)) == 7);
+  CHECK(m.has_tag(Triangle(5), kRequired));
+  auto field = m.get_field("h");
+  REQUIRE(field);
+  CHECK(field[Vertex(5)][0] == 5.5);
+
+  MeshData back = to_mesh_data(m);
+  CHECK(back.vertices == d.vertices);
+  CHECK(back.triangles == d.triangles);
+  CHECK(back.triangle_refs == d.triangle_refs);
+  CHECK(back.vertex_refs == d.vertex_refs);
+  CHECK(back.edges.size() == 3);
+  CHECK(back.ridges.size() == 1);
+  CHECK(back.required_edges.size() == 1);
+  CHECK(back.corners == d.corners);
+  CHECK(back.required_vertices == d.required_vertices);
+  CHECK(back.required_triangles == d.required_triangles);
+  CHECK(back.normal_at_vertex.size() == 1);
+  REQUIRE(back.fields.size() == 1);
+  CHECK(back.fields[0].values == f.values);
+}
+
+TEST_CASE("free lists: deleted slots are reused, compact renumbers properties") {
+  SurfaceMesh m;
+  build_mesh(grid(3), m);
+  auto label = m.add_vertex_property<int>("label", -1);
+  for (int v = 0; v < m.vertex_capacity(); ++v) label[Vertex(v)] = v;
+  const int cap_t = m.triangle_capacity(), cap_v = m.vertex_capacity();
+  // Remove the corner triangle at vertex 0 region: triangles using vertex 0.
+  std::vector<Corner> fan0 = m.fan(Vertex(0));
+  for (Corner c : fan0) m.delete_triangle(SurfaceMesh::triangle(c));
+  m.delete_vertex(Vertex(0));
+  require_valid(m);
+  CHECK(m.n_vertices() == cap_v - 1);
+  CHECK(m.has_garbage());
+  // re-add: slots are reused, no growth
+  Vertex v = m.add_vertex({0, 0, 0});
+  CHECK(v.idx == 0);
+  CHECK(label[v] == -1);  // reset to the default
+  label[v] = 0;
+  Triangle t = m.add_triangle(v, Vertex(1), Vertex(5));
+  CHECK(t.idx < cap_t);
+  require_valid(m);
+  CHECK(m.triangle_capacity() == cap_t);
+  CHECK(m.vertex_capacity() == cap_v);
+  // delete an interior-free triangle and compact
+  m.delete_triangle(Triangle(17));
+  require_valid(m);
+  CompactMap map = m.compact();
+  require_valid(m);
+  CHECK_FALSE(m.has_garbage());
+  CHECK(map.triangle[17] == -1);
+  CHECK(m.triangle_capacity() == m.n_triangles());
+  for (int i = 0; i < m.vertex_capacity(); ++i) CHECK(label.vector().size() == static_cast<std::size_t>(m.vertex_capacity()));
+}
+
+TEST_CASE("add_triangle links neighbours; a copy is independent") {
+  SurfaceMesh m;
+  Vertex a = m.add_vertex({0, 0, 0}), b = m.add_vertex({1, 0, 0}), c = m.add_vertex({1, 1, 0}),
+         d = m.add_vertex({0, 1, 0});
+  m.add_triangle(a, b, c);
+  m.add_triangle(a, c, d);
+  require_valid(m);
+  CHECK(m.n_triangles() == 2);
+  Corner e = m.find_edge(a, c);
+  REQUIRE(e.is_valid());
+  CHECK_FALSE(m.is_boundary_edge(e));
+  SurfaceMesh copy = m;
+  copy.position(a).x = 5;
+  CHECK(m.position(a).x == 0);
+  require_valid(copy);
+}
+
+TEST_CASE("validate detects corruption") {
+  SurfaceMesh m;
+  build_mesh(grid(2), m);
+  require_valid(m);
+  SUBCASE("asymmetric opposite link") {
+    Corner c(0);
+    Corner o = m.opposite(c);
+    if (!o.is_valid()) {
+      c = Corner(1);
+      o = m.opposite(c);
+    }
+    REQUIRE(o.is_valid());
+    m.link(c, Corner(2));
+    CHECK_FALSE(m.validate().ok());
+  }
+  SUBCASE("wrong vertex corner") {
+    m.set_vertex_corner(Vertex(4), Corner(0));
+    CHECK_FALSE(m.validate().ok());
+  }
+  SUBCASE("degenerate triangle") {
+    m.set_corner_vertex(Corner(0), m.vertex(Corner(1)));
+    CHECK_FALSE(m.validate().ok());
+  }
+}
+
+TEST_CASE("random deletions and re-insertions keep the invariants") {
+  SurfaceMesh m;
+  build_mesh(grid(8), m);
+  std::mt19937 rng(42);
+  for (int round = 0; round < 200; ++round) {
+    // delete a random triangle whose removal keeps every vertex manifold:
+    // all three of its vertices are interior or it has a boundary edge
+    // adjacent to exactly the fan ends.
+    int t = static_cast<int>(rng() % m.triangle_capacity());
+    Triangle th(t);
+    if (m.is_deleted(th)) continue;
+    Vertex vs[3] = {m.vertex(th, 0), m.vertex(th, 1), m.vertex(th, 2)};
+    bool ok = true;
+    for (int k = 0; k < 3; ++k) {
+      Corner c = SurfaceMesh::corner(th, k);
+      bool first = !m.swing_cw(c).is_valid(), last = !m.swing_ccw(c).is_valid();
+      if (m.is_boundary(vs[k]) && !first && !last) ok = false;  // would split the fan
+    }
+    if (!ok) continue;
+    m.delete_triangle(th);
+    for (Vertex v : vs)
+      if (m.is_isolated(v)) m.delete_vertex(v);
+    require_valid(m);
+    // and put it back half of the time
+    if (round % 2 == 0) {
+      bool live = true;
+      for (Vertex v : vs) live = live && !m.is_deleted(v);
+      if (live) {
+        m.add_triangle(vs[0], vs[1], vs[2]);
+        require_valid(m);
+      }
+    }
+  }
+  CHECK(all_up(m));
+  m.compact();
+  require_valid(m);
+}
