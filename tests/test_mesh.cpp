@@ -186,7 +186,7 @@ TEST_CASE("Moebius strip: non-orientable, cut to stay valid") {
   CHECK(rep.non_orientable_components == 1);
 }
 
-TEST_CASE("split vertices are merged with a tolerance relative to the box") {
+TEST_CASE("split vertices are welded with a tolerance relative to the box") {
   MeshData d = grid(2);
   MeshData s;  // every triangle with its own copies, with tiny noise
   for (const auto& t : d.triangles)
@@ -197,8 +197,14 @@ TEST_CASE("split vertices are merged with a tolerance relative to the box") {
     }
   for (int t = 0; t < static_cast<int>(d.triangles.size()); ++t) s.triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
   s.split_vertices = true;
+  SurfaceMesh exact;
+  build_mesh(s, exact);  // default: identical positions only, the noise keeps them apart
+  require_valid(exact);
+  CHECK(exact.n_vertices() > 9);
+  BuildOptions weld;
+  weld.merge_tolerance = 1e-9;
   SurfaceMesh m;
-  auto rep = build_mesh(s, m);
+  auto rep = build_mesh(s, m, weld);
   require_valid(m);
   CHECK(m.n_vertices() == 9);
   CHECK(rep.merged_vertices == static_cast<int>(s.vertices.size()) - 9);

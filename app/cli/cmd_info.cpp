@@ -16,7 +16,7 @@ namespace anisurf::cli {
 namespace {
 
 const char* kInfoHelp =
-    "usage: anisurf info MESH [--sol SOL] [--json]\n"
+    "usage: anisurf info MESH [--sol SOL] [--weld TOL] [--json]\n"
     "\n"
     "Loads a surface mesh (.mesh .meshb .obj .off .ply .stl .gltf .glb), builds its\n"
     "connectivity and prints: vertices, triangles, edges, components, boundary loops,\n"
@@ -26,12 +26,14 @@ const char* kInfoHelp =
     "\n"
     "options:\n"
     "  --sol SOL   also read per-vertex fields from a .sol file\n"
+    "  --weld TOL  also merge vertices closer than TOL x the bounding box diagonal\n"
+    "              (default 0: identical positions only); closes CAD cracks\n"
     "  --json      print one JSON object instead of text\n"
     "\n"
     "example: anisurf info falcon.mesh --json\n";
 
 const char* kConvertHelp =
-    "usage: anisurf convert IN OUT [--sol SOL] [--ascii] [--big-endian] [--medit-version 1|2]\n"
+    "usage: anisurf convert IN OUT [--sol SOL] [--weld TOL] [--ascii] [--big-endian] [--medit-version 1|2]\n"
     "\n"
     "Reads IN, repairs what build can repair (see `anisurf info`), writes OUT in the\n"
     "format given by its extension: .mesh .meshb .obj .ply .stl .glb .vtk.\n"
@@ -40,6 +42,7 @@ const char* kConvertHelp =
     "\n"
     "options:\n"
     "  --sol SOL            per-vertex fields to carry over\n"
+    "  --weld TOL           merge vertices closer than TOL x the bounding box diagonal\n"
     "  --ascii              PLY / STL: write text instead of binary\n"
     "  --big-endian         PLY binary: big-endian byte order\n"
     "  --medit-version N    .mesh: 1 (single precision) or 2 (double, default)\n"
@@ -62,10 +65,18 @@ struct Loaded {
   double seconds = 0;
 };
 
-Loaded load_with_fields(const std::string& path, const std::string& sol) {
+BuildOptions build_options(ArgParser& p) {
+  BuildOptions o;
+  o.merge_tolerance = p.option_double("--weld", 0.0);
+  if (!(o.merge_tolerance >= 0 && o.merge_tolerance < 0.1))
+    throw UsageError{"--weld expects a tolerance relative to the bounding box in [0, 0.1)"};
+  return o;
+}
+
+Loaded load_with_fields(const std::string& path, const std::string& sol, const BuildOptions& options) {
   Loaded l;
   auto t0 = std::chrono::steady_clock::now();
-  l.mesh = load_mesh(path, &l.report);
+  l.mesh = load_mesh(path, &l.report, options);
   l.file_vertices = l.report.input_vertices;
   if (!sol.empty()) attach_fields(l.mesh, read_sol(sol, l.file_vertices), l.report);
   l.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -77,6 +88,7 @@ nlohmann::json info_json(const std::string& path, const Loaded& l, const MeshSta
   j["file"] = path;
   j["vertices"] = s.vertices;
   j["file_vertices"] = l.file_vertices;
+  j["unique_positions"] = l.report.unique_positions;
   j["triangles"] = s.triangles;
   j["file_triangles"] = l.report.input_triangles;
   j["edges"] = s.edges;
@@ -123,6 +135,8 @@ void print_info_text(const std::string& path, const Loaded& l, const MeshStats& 
   o << "file          " << path << "\n";
   o << "vertices      " << s.vertices;
   if (l.file_vertices != s.vertices) o << " (file: " << l.file_vertices << ")";
+  if (l.report.unique_positions != l.file_vertices)
+    o << " (" << l.report.unique_positions << " unique positions among the file's " << l.file_vertices << ")";
   o << "\ntriangles     " << s.triangles;
   if (l.report.input_triangles != s.triangles) o << " (file: " << l.report.input_triangles << ")";
   o << "\nedges         " << s.edges << "\n";
@@ -168,9 +182,10 @@ int run_info(const std::vector<std::string>& args) {
   ArgParser p(args);
   bool json = p.flag("--json");
   std::string sol = p.option("--sol");
+  BuildOptions bo = build_options(p);
   auto pos = p.positionals();
   if (pos.size() != 1) throw UsageError{"expected exactly one MESH file"};
-  Loaded l = load_with_fields(pos[0], sol);
+  Loaded l = load_with_fields(pos[0], sol, bo);
   MeshStats s = compute_stats(l.mesh);
   ValidationReport v = l.mesh.validate();
   if (json)
@@ -191,10 +206,11 @@ int run_convert(const std::vector<std::string>& args) {
     w.medit_version = mv == "1" ? 1 : 2;
   }
   std::string sol = p.option("--sol");
+  BuildOptions bo = build_options(p);
   auto pos = p.positionals();
   if (pos.size() != 2) throw UsageError{"expected IN and OUT"};
   MeshFormat out_format = mesh_format_from_path(pos[1]);  // fail early on a bad extension
-  Loaded l = load_with_fields(pos[0], sol);
+  Loaded l = load_with_fields(pos[0], sol, bo);
   ValidationReport v = l.mesh.validate();
   if (!v.ok()) throw TopologyError(pos[0] + ": the built mesh is invalid:\n" + v.summary());
   save_mesh(pos[1], l.mesh, w);

@@ -166,16 +166,15 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
   // 1. merge coincident positions
   std::vector<int> rep_of(nv_in);
   std::iota(rep_of.begin(), rep_of.end(), 0);
-  bool merge = opt.merge == BuildOptions::Merge::Always ||
-               (opt.merge == BuildOptions::Merge::Auto);
-  if (merge) {
-    double tol = 0;
-    if (d.split_vertices || opt.merge == BuildOptions::Merge::Always) {
-      BBox b;
-      for (const auto& p : d.vertices) b.add(p);
-      tol = opt.merge_tolerance * b.diagonal();
-    }
-    rep_of = merge_positions(d.vertices, tol);
+  {
+    BBox b;
+    for (const auto& p : d.vertices) b.add(p);
+    const bool merge = opt.merge == BuildOptions::Merge::Always ||
+                       (opt.merge == BuildOptions::Merge::Auto && (d.split_vertices || opt.merge_tolerance > 0));
+    std::vector<int> same = merge_positions(d.vertices, merge ? opt.merge_tolerance * b.diagonal() : 0.0);
+    rep.unique_positions = 0;
+    for (int v = 0; v < nv_in; ++v) rep.unique_positions += same[v] == v;
+    if (merge) rep_of = std::move(same);
   }
 
   // 2. triangles: drop degenerate and duplicated ones

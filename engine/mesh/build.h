@@ -1,7 +1,8 @@
 // Building a SurfaceMesh from file-level data (a triangle soup with tags), and
 // the way back. What is repaired and what is refused:
-//  - repaired, with a count in the report: coincident positions merged (for
-//    formats with split vertices, tolerance relative to the bounding box),
+//  - repaired, with a count in the report: identical positions merged for
+//    formats with split vertices (optionally welded within a tolerance
+//    relative to the bounding box),
 //    triangles with a repeated vertex dropped, duplicated triangles dropped,
 //    unreferenced vertices dropped, components oriented consistently (triangles
 //    flipped), edges shared by more than two triangles cut (tagged
@@ -19,11 +20,18 @@
 namespace anisurf {
 
 struct BuildOptions {
-  // Merge coincident positions: Auto merges only for formats with split
-  // vertices; Always / Never force it.
+  // Merge coincident positions: Auto merges for formats that store split
+  // vertices (STL, glTF: a copy per triangle or per normal) or when a welding
+  // tolerance is set; Always merges for every format; Never keeps every vertex.
+  // (Other formats may hold stray duplicates: they are counted in
+  // BuildReport::unique_positions but kept apart, since merging them usually
+  // makes pinch points that would have to be split again.)
   enum class Merge { Auto, Always, Never } merge = Merge::Auto;
-  // Merge tolerance relative to the bounding box diagonal (0: exact equality).
-  double merge_tolerance = 1e-10;
+  // Welding tolerance relative to the bounding box diagonal: 0 merges only
+  // identical positions (the counts users expect); a small value such as 1e-9
+  // also welds the near-coincident vertices of CAD exports and closes their
+  // cracks (featuretype.STL: 576 boundary edges -> 0).
+  double merge_tolerance = 0;
   bool orient = true;              // orient each component consistently
   bool drop_unreferenced = true;   // drop vertices that no triangle uses
   bool drop_duplicate_triangles = true;
@@ -32,6 +40,7 @@ struct BuildOptions {
 struct BuildReport {
   int input_vertices = 0;
   int input_triangles = 0;
+  int unique_positions = 0;         // distinct positions among the file's vertices
   int merged_vertices = 0;          // removed by merging coincident positions
   int unreferenced_vertices = 0;    // dropped
   int degenerate_triangles = 0;     // repeated vertex id: dropped
