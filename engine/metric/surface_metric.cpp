@@ -1,0 +1,64 @@
+#include "metric/surface_metric.h"
+
+#include <cmath>
+
+namespace anisurf {
+
+std::array<Vec3, 2> tangent_frame(const Vec3& n) {
+  // Start from the axis least aligned with n.
+  const Vec3 a = std::fabs(n.x) <= std::fabs(n.y) && std::fabs(n.x) <= std::fabs(n.z) ? Vec3(1, 0, 0)
+                 : std::fabs(n.y) <= std::fabs(n.z)                                   ? Vec3(0, 1, 0)
+                                                                                      : Vec3(0, 0, 1);
+  const Vec3 t1 = normalized(a - dot(a, n) * n);
+  return {t1, cross(n, t1)};
+}
+
+SymTensor2 restrict_to_tangent(const SymTensor3& M, const Vec3& t1, const Vec3& t2) {
+  const Vec3 m1 = M * t1;
+  return {dot(t1, m1), dot(t2, m1), quad(M, t2)};
+}
+
+SymTensor2 restrict_to_tangent(const SymTensor3& M, const Vec3& unit_normal) {
+  const auto f = tangent_frame(unit_normal);
+  return restrict_to_tangent(M, f[0], f[1]);
+}
+
+SymTensor3 extend_from_tangent(const SymTensor2& T, const Vec3& t1, const Vec3& t2, double normal_value) {
+  const Vec3 n = cross(t1, t2);
+  SymTensor3 out = T.m[0] * SymTensor3::outer(t1) + T.m[2] * SymTensor3::outer(t2) + normal_value * SymTensor3::outer(n);
+  // Symmetric part of T12 (t1 t2^T + t2 t1^T).
+  const Vec3& a = t1;
+  const Vec3& b = t2;
+  out += T.m[1] * SymTensor3(2 * a.x * b.x, a.x * b.y + a.y * b.x, 2 * a.y * b.y, a.x * b.z + a.z * b.x,
+                             a.y * b.z + a.z * b.y, 2 * a.z * b.z);
+  return out;
+}
+
+std::vector<Vec3> vertex_normals(const SurfaceMesh& mesh) {
+  std::vector<Vec3> n(mesh.vertex_capacity());
+  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
+    if (mesh.is_deleted(Triangle(t))) continue;
+    const Vec3 tn = mesh.triangle_normal(Triangle(t));  // twice the area
+    for (int k = 0; k < 3; ++k) n[mesh.vertex(Triangle(t), k).idx] += tn;
+  }
+  for (Vec3& v : n) v = normalized(v);
+  return n;
+}
+
+double metric_complexity(const SurfaceMesh& mesh, const MetricField& metric) {
+  double c = 0;
+  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
+    if (mesh.is_deleted(Triangle(t))) continue;
+    const Vec3 tn = mesh.triangle_normal(Triangle(t));
+    const double area2 = norm(tn);
+    if (!(area2 > 0)) continue;
+    const auto frame = tangent_frame(tn / area2);
+    double s = 0;
+    for (int k = 0; k < 3; ++k)
+      s += std::sqrt(std::fmax(det(restrict_to_tangent(metric[mesh.vertex(Triangle(t), k).idx], frame[0], frame[1])), 0.0));
+    c += 0.5 * area2 * s / 3.0;
+  }
+  return c;
+}
+
+}  // namespace anisurf
