@@ -10,11 +10,13 @@ namespace anisurf::cli {
 // Commands defined in cmd_*.cpp.
 Command info_command();
 Command convert_command();
+Command quality_command();
 
 std::vector<Command> engine_commands() {
   std::vector<Command> list;
   list.push_back(info_command());
   list.push_back(convert_command());
+  list.push_back(quality_command());
   return list;
 }
 
