@@ -255,6 +255,18 @@ void SurfaceMesh::delete_triangle(Triangle t) {
   }
 }
 
+void SurfaceMesh::release_triangle(Triangle t) {
+  for (int k = 0; k < 3; ++k) {
+    tv_[3 * t.idx + k] = -1;
+    to_[3 * t.idx + k] = -1;
+    etag_[3 * t.idx + k] = 0;
+    eref_[3 * t.idx + k] = 0;
+  }
+  ttag_[t.idx] = 0;
+  tref_[t.idx] = 0;
+  free_triangles_.push_back(t.idx);
+}
+
 void SurfaceMesh::delete_vertex(Vertex v) {
   if (is_deleted(v)) return;
   vcorner_[v.idx] = kDeletedMark;

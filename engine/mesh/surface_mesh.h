@@ -184,6 +184,9 @@ class SurfaceMesh {
   void update_vertex_corner(Vertex v);
   Triangle allocate_triangle();  // uninitialised slot, reused from the free list
   void delete_triangle(Triangle t);  // unlinks its edges from neighbours, frees the slot
+  // Frees a triangle slot without touching neighbours or vertices: for
+  // operators that have already relinked everything around it.
+  void release_triangle(Triangle t);
   void delete_vertex(Vertex v);      // pre: no live triangle uses v
   // Removes deleted slots; returns the renumbering. Properties follow.
   CompactMap compact();
