@@ -1,0 +1,269 @@
+#include "metric/hessian.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+#include "metric/surface_metric.h"
+
+namespace anisurf {
+
+namespace {
+
+// Vertices within `rings` edges of v (v excluded), grown until min_points.
+class RingCollector {
+ public:
+  explicit RingCollector(const SurfaceMesh& mesh) : mesh_(mesh), seen_(mesh.vertex_capacity(), 0) {}
+
+  const std::vector<int>& collect(Vertex v, int rings, int min_points) {
+    out_.clear();
+    seen_[v.idx] = 1;
+    std::size_t begin = 0;
+    add_ring_of(v);
+    for (int r = 1; r < 4 && (r < rings || static_cast<int>(out_.size()) < min_points); ++r) {
+      const std::size_t end = out_.size();
+      for (std::size_t i = begin; i < end; ++i) add_ring_of(Vertex(out_[i]));
+      begin = end;
+    }
+    seen_[v.idx] = 0;
+    for (int w : out_) seen_[w] = 0;
+    return out_;
+  }
+
+ private:
+  void add_ring_of(Vertex u) {
+    for (Corner c : mesh_.fan(u))
+      for (Vertex w : {mesh_.vertex(SurfaceMesh::next(c)), mesh_.vertex(SurfaceMesh::prev(c))})
+        if (!seen_[w.idx]) {
+          seen_[w.idx] = 1;
+          out_.push_back(w.idx);
+        }
+  }
+
+  const SurfaceMesh& mesh_;
+  std::vector<char> seen_;
+  std::vector<int> out_;
+};
+
+// Fits value(w) - value(v) ~ g.(x,y) + 1/2 (x,y) H (x,y)^T [+ cubic terms] on
+// the ring; writes gradient (tangent 3D vector) and Hessian (tangent 3D tensor).
+template <class Value>
+void fit_polynomial(const SurfaceMesh& mesh, Vertex v, const std::vector<int>& ring, const Vec3& n, int degree,
+                    Value value, Vec3& gradient, SymTensor3& hessian) {
+  const auto frame = tangent_frame(n);
+  const Vec3 p0 = mesh.position(v);
+  const int m = static_cast<int>(ring.size());
+  const int unknowns = degree >= 3 ? 9 : 5;
+  double s2 = 0;
+  for (int w : ring) s2 += norm2(mesh.position(Vertex(w)) - p0);
+  const double s = std::sqrt(s2 / std::max(m, 1));
+  Eigen::MatrixXd A(m, unknowns);
+  Eigen::VectorXd b(m);
+  const double f0 = value(v);
+  for (int i = 0; i < m; ++i) {
+    const Vec3 d = (mesh.position(Vertex(ring[i])) - p0) / s;
+    const double x = dot(d, frame[0]), y = dot(d, frame[1]);
+    A(i, 0) = x;
+    A(i, 1) = y;
+    A(i, 2) = 0.5 * x * x;
+    A(i, 3) = x * y;
+    A(i, 4) = 0.5 * y * y;
+    if (unknowns == 9) {
+      A(i, 5) = x * x * x;
+      A(i, 6) = x * x * y;
+      A(i, 7) = x * y * y;
+      A(i, 8) = y * y * y;
+    }
+    b(i) = value(Vertex(ring[i])) - f0;
+  }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
+  if (qr.rank() < unknowns)
+    throw MetricError("Hessian recovery: the neighbours of vertex " + std::to_string(v.idx + 1) +
+                      " do not determine a polynomial of degree " + std::to_string(degree) + " (" +
+                      std::to_string(m) + " points, rank " + std::to_string(qr.rank()) + ")");
+  const Eigen::VectorXd a = qr.solve(b);
+  gradient = (a(0) / s) * frame[0] + (a(1) / s) * frame[1];
+  hessian = extend_from_tangent(SymTensor2(a(2) / (s * s), a(3) / (s * s), a(4) / (s * s)), frame[0], frame[1], 0.0);
+}
+
+int min_points(const HessianRecoveryOptions& o) { return std::max(o.min_points, o.degree >= 3 ? 12 : 6); }
+
+double default_hmax(const SurfaceMesh& mesh, double hmax) {
+  return std::isfinite(hmax) ? hmax : mesh.bbox().diagonal();
+}
+
+// Area of the surface around each vertex (a third of its triangles).
+std::vector<double> vertex_areas(const SurfaceMesh& mesh) {
+  std::vector<double> a(mesh.vertex_capacity(), 0.0);
+  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
+    if (mesh.is_deleted(Triangle(t))) continue;
+    const double at = mesh.triangle_area(Triangle(t)) / 3.0;
+    for (int k = 0; k < 3; ++k) a[mesh.vertex(Triangle(t), k).idx] += at;
+  }
+  return a;
+}
+
+// |H| in the tangent frame of n, eigenvalues floored at `floor`.
+struct TangentAbs {
+  std::array<double, 2> values;
+  double angle;
+  std::array<Vec3, 2> frame;
+};
+TangentAbs tangent_abs(const SymTensor3& H, const Vec3& n, double floor) {
+  TangentAbs t;
+  t.frame = tangent_frame(n);
+  const SymEigen2 e = eigen_decompose(restrict_to_tangent(H, t.frame[0], t.frame[1]));
+  t.values = {std::fmax(std::fabs(e.values[0]), floor), std::fmax(std::fabs(e.values[1]), floor)};
+  t.angle = e.angle;
+  return t;
+}
+
+SymTensor3 tangent_metric(const TangentAbs& t, double scale) {
+  const SymTensor2 T = compose({scale * t.values[0], scale * t.values[1]}, t.angle);
+  // The normal direction gets the largest tangent size (smallest eigenvalue).
+  return extend_from_tangent(T, t.frame[0], t.frame[1], scale * std::min(t.values[0], t.values[1]));
+}
+
+}  // namespace
+
+std::vector<Vec3> fitted_normals(const SurfaceMesh& mesh, const HessianRecoveryOptions& options) {
+  std::vector<Vec3> normal = vertex_normals(mesh);
+  RingCollector rings(mesh);
+  for (int i = 0; i < mesh.vertex_capacity(); ++i) {
+    const Vertex v(i);
+    if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+    const Vec3 p0 = mesh.position(v), n = normal[i];
+    const auto& ring = rings.collect(v, options.rings, min_points(options));
+    // Heights z = (p - p0).n ~ a1 x + a2 y + ...: the surface's tangent plane
+    // is spanned by (1, 0, a1), (0, 1, a2), its normal by (-a1, -a2, 1).
+    Vec3 slope;
+    SymTensor3 unused;
+    fit_polynomial(mesh, v, ring, n, options.degree, [&](Vertex w) { return dot(mesh.position(w) - p0, n); }, slope,
+                   unused);
+    normal[i] = normalized(n - slope);
+  }
+  return normal;
+}
+
+RecoveredDerivatives recover_derivatives(const SurfaceMesh& mesh, const std::vector<double>& f,
+                                         const HessianRecoveryOptions& options) {
+  if (static_cast<int>(f.size()) != mesh.vertex_capacity())
+    throw MetricError("Hessian recovery: " + std::to_string(f.size()) + " values for " +
+                      std::to_string(mesh.vertex_capacity()) + " vertices");
+  for (int i = 0; i < mesh.vertex_capacity(); ++i)
+    if (!mesh.is_deleted(Vertex(i)) && !std::isfinite(f[i]))
+      throw MetricError("Hessian recovery: value at vertex " + std::to_string(i + 1) + " is " + std::to_string(f[i]));
+  RecoveredDerivatives out;
+  out.normal = fitted_normals(mesh, options);
+  out.gradient.assign(mesh.vertex_capacity(), Vec3());
+  out.hessian.assign(mesh.vertex_capacity(), SymTensor3());
+  RingCollector rings(mesh);
+  for (int i = 0; i < mesh.vertex_capacity(); ++i) {
+    const Vertex v(i);
+    if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+    const auto& ring = rings.collect(v, options.rings, min_points(options));
+    fit_polynomial(mesh, v, ring, out.normal[i], options.degree, [&](Vertex w) { return f[w.idx]; }, out.gradient[i],
+                   out.hessian[i]);
+  }
+  return out;
+}
+
+std::vector<SymTensor3> recover_curvature(const SurfaceMesh& mesh, const HessianRecoveryOptions& options) {
+  const std::vector<Vec3> normal = fitted_normals(mesh, options);
+  std::vector<SymTensor3> out(mesh.vertex_capacity());
+  RingCollector rings(mesh);
+  for (int i = 0; i < mesh.vertex_capacity(); ++i) {
+    const Vertex v(i);
+    if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+    const Vec3 p0 = mesh.position(v), n = normal[i];
+    const auto& ring = rings.collect(v, options.rings, min_points(options));
+    Vec3 g;
+    // Depth below the tangent plane: a sphere with outward normals has
+    // curvature +1 / R.
+    fit_polynomial(mesh, v, ring, n, options.degree, [&](Vertex w) { return -dot(mesh.position(w) - p0, n); }, g,
+                   out[i]);
+  }
+  return out;
+}
+
+MetricField hessian_metric(const SurfaceMesh& mesh, const std::vector<SymTensor3>& hessian,
+                           const HessianMetricOptions& o) {
+  const bool by_error = o.error > 0, by_count = o.target_vertices > 0;
+  if (by_error == by_count)
+    throw MetricError("Hessian metric: give exactly one target, an error > 0 or a vertex count > 0");
+  if (!(o.p >= 1)) throw MetricError("Hessian metric: the norm exponent p must be >= 1 or infinity");
+  if (!(o.error_constant > 0)) throw MetricError("Hessian metric: the error constant must be > 0");
+  MetricBounds bounds = o.bounds;
+  bounds.hmax = default_hmax(mesh, bounds.hmax);
+  const std::vector<Vec3> normal = vertex_normals(mesh);
+  const int nv = mesh.vertex_capacity();
+  const double c = o.error_constant;
+
+  // Floor of |lambda|: in error mode the size hmax (c/eps lambda = hmax^-2); by
+  // count a tiny fraction of the largest curvature of f.
+  double lmax = 0;
+  for (int i = 0; i < nv; ++i)
+    if (!mesh.is_deleted(Vertex(i))) lmax = std::fmax(lmax, frobenius_norm(hessian[i]));
+  const double floor = by_error ? o.error / (c * bounds.hmax * bounds.hmax) : std::fmax(1e-12 * lmax, 1e-300);
+
+  const bool finite_p = std::isfinite(o.p);
+  const double det_power = finite_p ? -1.0 / (2.0 * o.p + 2.0) : 0.0;
+  std::vector<TangentAbs> abs(nv);
+  std::vector<double> local(nv, 1.0);  // det(|H|)^(-1/(2p+2))
+  for (int i = 0; i < nv; ++i) {
+    if (mesh.is_deleted(Vertex(i))) continue;
+    abs[i] = tangent_abs(hessian[i], normal[i], floor);
+    if (finite_p) local[i] = std::pow(abs[i].values[0] * abs[i].values[1], det_power);
+  }
+  auto build = [&](double D) {
+    MetricField M(nv, SymTensor3::identity());
+    for (int i = 0; i < nv; ++i)
+      if (!mesh.is_deleted(Vertex(i))) M[i] = clamp_metric(tangent_metric(abs[i], D * local[i]), bounds);
+    return M;
+  };
+
+  if (by_error) {
+    double D = c / o.error;
+    if (finite_p) {
+      const std::vector<double> area = vertex_areas(mesh);
+      double integral = 0;
+      for (int i = 0; i < nv; ++i)
+        if (!mesh.is_deleted(Vertex(i)))
+          integral += area[i] * std::pow(abs[i].values[0] * abs[i].values[1], o.p / (2.0 * o.p + 2.0));
+      D *= std::pow(integral, 1.0 / o.p);
+    }
+    return build(D);
+  }
+  // By vertex count: predicted_vertex_count(build(D)) grows with D; bisect on log D.
+  const double target = o.target_vertices;
+  auto count = [&](double D) { return predicted_vertex_count(metric_complexity(mesh, build(D))); };
+  double lo = 1.0, hi = 1.0;
+  while (count(lo) > target && lo > 1e-300) lo *= 1e-3;
+  while (count(hi) < target && hi < 1e300) hi *= 1e3;
+  const double n_lo = count(lo), n_hi = count(hi);
+  if (n_lo > target || n_hi < target)
+    throw MetricError("Hessian metric: " + std::to_string(target) + " vertices is out of reach within hmin/hmax (" +
+                      std::to_string(n_lo) + " .. " + std::to_string(n_hi) + ")");
+  for (int it = 0; it < 100 && hi / lo > 1 + 1e-12; ++it) {
+    const double mid = std::sqrt(lo * hi);
+    (count(mid) < target ? lo : hi) = mid;
+  }
+  return build(std::sqrt(lo * hi));
+}
+
+MetricField curvature_metric(const SurfaceMesh& mesh, double hausd, const MetricBounds& bounds_in,
+                             const HessianRecoveryOptions& options) {
+  if (!(hausd > 0)) throw MetricError("curvature metric: hausd must be > 0");
+  MetricBounds bounds = bounds_in;
+  bounds.hmax = default_hmax(mesh, bounds.hmax);
+  const std::vector<SymTensor3> II = recover_curvature(mesh, options);
+  const std::vector<Vec3> normal = fitted_normals(mesh, options);
+  const double floor = 8.0 * hausd / (bounds.hmax * bounds.hmax);  // |kappa| giving hmax
+  MetricField M(mesh.vertex_capacity(), SymTensor3::identity());
+  for (int i = 0; i < mesh.vertex_capacity(); ++i)
+    if (!mesh.is_deleted(Vertex(i)))
+      M[i] = clamp_metric(tangent_metric(tangent_abs(II[i], normal[i], floor), 1.0 / (8.0 * hausd)), bounds);
+  return M;
+}
+
+}  // namespace anisurf
