@@ -1,0 +1,6 @@
+MeshVersionFormatted 2
+SolAtVertices
+1
+1 1
+1
+End
