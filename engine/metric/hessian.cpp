@@ -47,8 +47,9 @@ class RingCollector {
 
 // Fits value(w) - value(v) ~ g.(x,y) + 1/2 (x,y) H (x,y)^T [+ cubic terms] on
 // the ring; writes gradient (tangent 3D vector) and Hessian (tangent 3D tensor).
+// Returns false (writing nothing) when the points do not determine the polynomial.
 template <class Value>
-void fit_polynomial(const SurfaceMesh& mesh, Vertex v, const std::vector<int>& ring, const Vec3& n, int degree,
+bool fit_polynomial(const SurfaceMesh& mesh, Vertex v, const std::vector<int>& ring, const Vec3& n, int degree,
                     Value value, Vec3& gradient, SymTensor3& hessian) {
   const auto frame = tangent_frame(n);
   const Vec3 p0 = mesh.position(v);
@@ -76,17 +77,30 @@ void fit_polynomial(const SurfaceMesh& mesh, Vertex v, const std::vector<int>& r
     }
     b(i) = value(Vertex(ring[i])) - f0;
   }
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
-  if (qr.rank() < unknowns)
-    throw MetricError("Hessian recovery: the neighbours of vertex " + std::to_string(v.idx + 1) +
-                      " do not determine a polynomial of degree " + std::to_string(degree) + " (" +
-                      std::to_string(m) + " points, rank " + std::to_string(qr.rank()) + ")");
+  if (m < unknowns) return false;
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
+  qr.setThreshold(1e-10);
+  if (qr.rank() < unknowns) return false;
   const Eigen::VectorXd a = qr.solve(b);
   gradient = (a(0) / s) * frame[0] + (a(1) / s) * frame[1];
   hessian = extend_from_tangent(SymTensor2(a(2) / (s * s), a(3) / (s * s), a(4) / (s * s)), frame[0], frame[1], 0.0);
+  return true;
 }
 
 int min_points(const HessianRecoveryOptions& o) { return std::max(o.min_points, o.degree >= 3 ? 12 : 6); }
+
+// The fit at v: the requested degree on the requested rings, more rings (up
+// to 4) when the points do not determine it (grid corners, small meshes),
+// then degree 2. Throws MetricError when nothing determines a quadratic.
+template <class Value>
+void fit_at(const SurfaceMesh& mesh, Vertex v, RingCollector& rings, const Vec3& n, const HessianRecoveryOptions& o,
+            Value value, Vec3& gradient, SymTensor3& hessian) {
+  for (int degree = std::min(std::max(o.degree, 2), 3); degree >= 2; --degree)
+    for (int r = o.rings; r <= std::max(o.rings, 4); ++r)
+      if (fit_polynomial(mesh, v, rings.collect(v, r, min_points(o)), n, degree, value, gradient, hessian)) return;
+  throw MetricError("Hessian recovery: the neighbours of vertex " + std::to_string(v.idx + 1) +
+                    " do not determine a quadratic (too few or aligned points)");
+}
 
 double default_hmax(const SurfaceMesh& mesh, double hmax) {
   return std::isfinite(hmax) ? hmax : mesh.bbox().diagonal();
@@ -133,13 +147,11 @@ std::vector<Vec3> fitted_normals(const SurfaceMesh& mesh, const HessianRecoveryO
     const Vertex v(i);
     if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
     const Vec3 p0 = mesh.position(v), n = normal[i];
-    const auto& ring = rings.collect(v, options.rings, min_points(options));
     // Heights z = (p - p0).n ~ a1 x + a2 y + ...: the surface's tangent plane
     // is spanned by (1, 0, a1), (0, 1, a2), its normal by (-a1, -a2, 1).
     Vec3 slope;
     SymTensor3 unused;
-    fit_polynomial(mesh, v, ring, n, options.degree, [&](Vertex w) { return dot(mesh.position(w) - p0, n); }, slope,
-                   unused);
+    fit_at(mesh, v, rings, n, options, [&](Vertex w) { return dot(mesh.position(w) - p0, n); }, slope, unused);
     normal[i] = normalized(n - slope);
   }
   return normal;
@@ -161,9 +173,8 @@ RecoveredDerivatives recover_derivatives(const SurfaceMesh& mesh, const std::vec
   for (int i = 0; i < mesh.vertex_capacity(); ++i) {
     const Vertex v(i);
     if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
-    const auto& ring = rings.collect(v, options.rings, min_points(options));
-    fit_polynomial(mesh, v, ring, out.normal[i], options.degree, [&](Vertex w) { return f[w.idx]; }, out.gradient[i],
-                   out.hessian[i]);
+    fit_at(mesh, v, rings, out.normal[i], options, [&](Vertex w) { return f[w.idx]; }, out.gradient[i],
+           out.hessian[i]);
   }
   return out;
 }
@@ -176,12 +187,10 @@ std::vector<SymTensor3> recover_curvature(const SurfaceMesh& mesh, const Hessian
     const Vertex v(i);
     if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
     const Vec3 p0 = mesh.position(v), n = normal[i];
-    const auto& ring = rings.collect(v, options.rings, min_points(options));
     Vec3 g;
     // Depth below the tangent plane: a sphere with outward normals has
     // curvature +1 / R.
-    fit_polynomial(mesh, v, ring, n, options.degree, [&](Vertex w) { return -dot(mesh.position(w) - p0, n); }, g,
-                   out[i]);
+    fit_at(mesh, v, rings, n, options, [&](Vertex w) { return -dot(mesh.position(w) - p0, n); }, g, out[i]);
   }
   return out;
 }

@@ -18,8 +18,10 @@ struct HessianRecoveryOptions {
   // cubic terms: also exact for quadratics, and second order for the Hessian
   // on curved surfaces and irregular stencils, measured on a sphere).
   int degree = 3;
-  int rings = 2;        // neighbourhood of the least-squares fit
-  int min_points = 12;  // grow the neighbourhood (up to 4 rings) until it has this many points
+  // Neighbourhood of the fit; grown (up to 4 rings, then degree 2) where the
+  // points do not determine the polynomial (grid corners, tiny meshes).
+  int rings = 2;
+  int min_points = 12;  // grow the neighbourhood until it has this many points
 };
 
 // Derivatives of a field on the surface, per vertex slot, in 3D form.
