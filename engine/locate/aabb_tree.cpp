@@ -1,0 +1,142 @@
+#include "locate/aabb_tree.h"
+
+#include <algorithm>
+#include <array>
+
+namespace anisurf {
+
+namespace {
+
+constexpr int kBins = 16;
+constexpr int kSahDepthLimit = 48;  // deeper nodes are split at the median (bounded depth)
+
+double half_area(const BBox& b) {
+  if (b.empty()) return 0;
+  const Vec3 e = b.hi - b.lo;
+  return e.x * e.y + e.y * e.z + e.z * e.x;
+}
+
+void merge(BBox& a, const BBox& b) {
+  a.lo = min(a.lo, b.lo);
+  a.hi = max(a.hi, b.hi);
+}
+
+}  // namespace
+
+void AabbTree::build(const std::vector<BBox>& boxes) {
+  nodes_.clear();
+  ids_.clear();
+  depth_ = 0;
+  std::vector<Vec3> centre(boxes.size());
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    if (boxes[i].empty()) continue;
+    ids_.push_back(static_cast<int>(i));
+    centre[i] = boxes[i].center();
+  }
+  if (ids_.empty()) return;
+  nodes_.reserve(2 * ids_.size());
+  nodes_.emplace_back();
+
+  struct Task {
+    int node, begin, end, depth;
+  };
+  std::vector<Task> tasks{{0, 0, static_cast<int>(ids_.size()), 1}};
+  while (!tasks.empty()) {
+    const Task task = tasks.back();
+    tasks.pop_back();
+    depth_ = std::max(depth_, task.depth);
+    BBox box, cbox;
+    for (int i = task.begin; i < task.end; ++i) {
+      merge(box, boxes[ids_[i]]);
+      cbox.add(centre[ids_[i]]);
+    }
+    nodes_[task.node].lo = box.lo;
+    nodes_[task.node].hi = box.hi;
+    const int n = task.end - task.begin;
+    auto make_leaf = [&] {
+      nodes_[task.node].first = task.begin;
+      nodes_[task.node].count = n;
+    };
+    if (n <= 2) {
+      make_leaf();
+      continue;
+    }
+
+    // Choose the split: binned SAH over the three axes.
+    int axis = -1, split_bin = -1;
+    double best_cost = INFINITY;
+    const Vec3 extent = cbox.hi - cbox.lo;
+    if (task.depth < kSahDepthLimit) {
+      for (int a = 0; a < 3; ++a) {
+        if (!(extent[a] > 0)) continue;
+        std::array<BBox, kBins> bin_box{};
+        std::array<int, kBins> bin_count{};
+        const double scale = kBins / extent[a];
+        for (int i = task.begin; i < task.end; ++i) {
+          const int id = ids_[i];
+          const int b = std::min(kBins - 1, static_cast<int>((centre[id][a] - cbox.lo[a]) * scale));
+          ++bin_count[b];
+          merge(bin_box[b], boxes[id]);
+        }
+        // Sweep from the right for the right-hand areas, then from the left.
+        std::array<double, kBins> right_area{};
+        std::array<int, kBins> right_count{};
+        BBox acc;
+        int cnt = 0;
+        for (int b = kBins - 1; b > 0; --b) {
+          merge(acc, bin_box[b]);
+          cnt += bin_count[b];
+          right_area[b] = half_area(acc);
+          right_count[b] = cnt;
+        }
+        acc = BBox();
+        cnt = 0;
+        for (int b = 0; b < kBins - 1; ++b) {
+          merge(acc, bin_box[b]);
+          cnt += bin_count[b];
+          if (cnt == 0 || right_count[b + 1] == 0) continue;
+          const double cost = cnt * half_area(acc) + right_count[b + 1] * right_area[b + 1];
+          if (cost < best_cost) {
+            best_cost = cost;
+            axis = a;
+            split_bin = b;
+          }
+        }
+      }
+    }
+    const double leaf_cost = n * half_area(box);
+    if (n <= kMaxLeafSize && !(best_cost < leaf_cost)) {
+      make_leaf();
+      continue;
+    }
+
+    int mid = -1;
+    if (axis >= 0) {
+      const double scale = kBins / extent[axis];
+      const double lo = cbox.lo[axis];
+      int* part = std::partition(ids_.data() + task.begin, ids_.data() + task.end, [&](int id) {
+        return std::min(kBins - 1, static_cast<int>((centre[id][axis] - lo) * scale)) <= split_bin;
+      });
+      mid = static_cast<int>(part - ids_.data());
+    }
+    if (mid <= task.begin || mid >= task.end) {
+      // Median split on the longest centroid extent (or by position in the
+      // array when every centroid coincides).
+      int a = 0;
+      if (extent.y > extent[a]) a = 1;
+      if (extent.z > extent[a]) a = 2;
+      mid = task.begin + n / 2;
+      std::nth_element(ids_.data() + task.begin, ids_.data() + mid, ids_.data() + task.end,
+                       [&](int i, int j) { return centre[i][a] < centre[j][a]; });
+    }
+    const int left = static_cast<int>(nodes_.size());
+    nodes_.emplace_back();
+    nodes_.emplace_back();
+    nodes_[task.node].first = left;
+    nodes_[task.node].count = 0;
+    tasks.push_back({left + 1, mid, task.end, task.depth + 1});
+    tasks.push_back({left, task.begin, mid, task.depth + 1});
+  }
+}
+
+}  // namespace anisurf
