@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <sys/wait.h>
 
 #include "io/mesh_io.h"
 #include "metric/mesh_quality.h"
@@ -111,6 +112,17 @@ TEST_CASE("anisurf quality agrees with eval.py on the share of edges in the band
     write_sol((dir / "smooth.sol").string(), {f}, r.input_vertices);
     cases.push_back({in + "/sphere20k.mesh", (dir / "smooth.sol").string()});
   }
+  // The band metric after gradation by `anisurf metric` (smooth transitions).
+  {
+    const auto dir = anisurf::test::temp_dir("metric_quality_graded");
+    const std::string graded = (dir / "graded.sol").string();
+    int rc = -1;
+    capture(std::string(ANISURF_BINARY) + " metric '" + in + "/sphere20k.mesh' --sol '" + in +
+                "/sphere20k_band.sol' --hgrad 1.3 -o '" + graded + "'",
+            &rc);
+    REQUIRE(rc == 0);
+    cases.push_back({in + "/sphere20k.mesh", graded});
+  }
   for (const Case& c : cases) {
     CAPTURE(c.sol);
     const nlohmann::json ours = quality_json(c.mesh, c.sol), ref = eval_json(eval, c.mesh, c.sol);
@@ -122,5 +134,79 @@ TEST_CASE("anisurf quality agrees with eval.py on the share of edges in the band
     CHECK(std::fabs(ours["len_in_range_pct"].get<double>() - ref["len_in_range_pct"].get<double>()) <= 0.5);
     CHECK(ours["len_mean"].get<double>() == doctest::Approx(ref["len_mean"].get<double>()).epsilon(0.01));
     CHECK(ours["q_mean"].get<double>() == doctest::Approx(ref["q_mean"].get<double>()).epsilon(0.01));
+  }
+}
+
+namespace {
+
+std::vector<SymTensor3> read_metric_sol(const std::string& path, int n) {
+  const auto fields = read_sol(path, n);
+  REQUIRE(fields.size() == 1);
+  REQUIRE(fields[0].info.ncomp == 6);
+  std::vector<SymTensor3> out;
+  for (int i = 0; i < n; ++i) {
+    SymTensor3 M;
+    for (int k = 0; k < 6; ++k) M.m[k] = fields[0].values[6 * i + k];
+    out.push_back(M);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("anisurf metric square3d.mesh --hessian-of 100*x^2 --error 0.01: M = diag(2/9 200/0.01, hmax^-2, hmax^-2)") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/square3d.mesh");
+  const auto dir = anisurf::test::temp_dir("metric_square");
+  for (const char* hmax : {"1", ""}) {
+    const std::string out = (dir / "m.sol").string();
+    int rc = -1;
+    const std::string cmd = std::string(ANISURF_BINARY) + " metric '" + mesh +
+                            "' --hessian-of '100*x^2' --error 0.01 " + (*hmax ? std::string("--hmax ") + hmax : "") +
+                            " -o '" + out + "'";
+    const std::string log = capture(cmd + " 2>&1", &rc);
+    CAPTURE(log);
+    REQUIRE(rc == 0);
+    // hmax defaults to the bounding-box diagonal, sqrt 2 for the unit square.
+    const double h2 = *hmax ? 1.0 : 0.5;
+    const auto M = read_metric_sol(out, 121);
+    for (const SymTensor3& X : M) {
+      CHECK(X.xx() == doctest::Approx(2.0 / 9.0 * 200.0 / 0.01).epsilon(1e-9));
+      CHECK(X.yy() == doctest::Approx(h2).epsilon(1e-9));
+      CHECK(X.zz() == doctest::Approx(h2).epsilon(1e-9));
+      CHECK(std::fabs(X.xy()) < 1e-6);
+      CHECK(std::fabs(X.xz()) < 1e-9);
+      CHECK(std::fabs(X.yz()) < 1e-9);
+    }
+  }
+}
+
+TEST_CASE("anisurf metric: errors name the expression, its position or the vertex; bad usage exits with 2") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/square3d.mesh");
+  const auto dir = anisurf::test::temp_dir("metric_errors");
+  const std::string out = (dir / "m.sol").string();
+  const std::string base = std::string(ANISURF_BINARY) + " metric '" + mesh + "' ";
+  int rc = -1;
+  std::string log = capture(base + "--hessian-of '100*x^^2' --error 0.01 -o '" + out + "' 2>&1", &rc);
+  CHECK(WEXITSTATUS(rc) == 1);
+  CHECK(log.find("'100*x^^2'") != std::string::npos);
+  CHECK(log.find("position 6") != std::string::npos);
+  log = capture(base + "--size '1/x' -o '" + out + "' 2>&1", &rc);
+  CHECK(WEXITSTATUS(rc) == 1);
+  CHECK(log.find("division by zero") != std::string::npos);
+  CHECK(log.find("vertex 1 (1-based) at (x, y, z) = (0, 0, 0)") != std::string::npos);
+  log = capture(base + "--size 0.1 --curvature --hausd 0.01 -o '" + out + "' 2>&1", &rc);
+  CHECK(WEXITSTATUS(rc) == 2);
+  CHECK(log.find("exactly one source") != std::string::npos);
+  log = capture(base + "--hessian-of 'x^2' -o '" + out + "' 2>&1", &rc);
+  CHECK(WEXITSTATUS(rc) == 2);
+  // A size field written, read back: h = 0.1 + x, clamped to hmax = 0.5.
+  log = capture(base + "--size '0.1 + x' --hmax 0.5 -o '" + out + "' 2>&1", &rc);
+  REQUIRE(WEXITSTATUS(rc) == 0);
+  BuildReport r;
+  const SurfaceMesh sq = load_mesh(mesh, &r);
+  const auto M = read_metric_sol(out, r.input_vertices);
+  for (int i = 0; i < r.input_vertices; ++i) {
+    const double h = std::min(0.5, 0.1 + sq.position(Vertex(r.vertex_map[i])).x);
+    CHECK(M[i].xx() == doctest::Approx(1 / (h * h)).epsilon(1e-12));
   }
 }

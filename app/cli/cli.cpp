@@ -11,11 +11,13 @@ namespace anisurf::cli {
 Command info_command();
 Command convert_command();
 Command quality_command();
+Command metric_command();
 
 std::vector<Command> engine_commands() {
   std::vector<Command> list;
   list.push_back(info_command());
   list.push_back(convert_command());
+  list.push_back(metric_command());
   list.push_back(quality_command());
   return list;
 }

@@ -2,14 +2,18 @@
 // mesh against one).
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 
 #include "cli/cli.h"
 #include "core/error.h"
 #include "io/mesh_io.h"
+#include "metric/expression.h"
+#include "metric/hessian.h"
 #include "metric/mesh_quality.h"
 #include "metric/metric_field.h"
+#include "metric/surface_metric.h"
 
 namespace anisurf::cli {
 
@@ -34,6 +38,43 @@ const char* kQualityHelp =
     "  --json           print one JSON object\n"
     "\n"
     "example: anisurf quality out.mesh --sol out.sol --json\n";
+
+const char* kMetricHelp =
+    "usage: anisurf metric MESH SOURCE [BOUNDS] [--hgrad R] -o OUT.sol\n"
+    "\n"
+    "Builds a metric field on the vertices of MESH (the control space of the report's\n"
+    "section 2) and writes it as a .sol of symmetric tensors m11 m12 m22 m13 m23 m33,\n"
+    "numbered like the vertices of MESH. Expressions use muParser syntax in x, y, z\n"
+    "(+ - * / ^, sqrt, exp, log, sin, min, max, pi ...).\n"
+    "\n"
+    "SOURCE (exactly one):\n"
+    "  --size EXPR           isotropic size h(x,y,z) > 0 (eq. 3: M = h^-2 I)\n"
+    "  --tensor EXPR         the 6 components 'm11, m12, m22, m13, m23, m33' (SPD)\n"
+    "  --hessian-of EXPR     metric of the P1 interpolation error of f(x,y,z): Hessian\n"
+    "                        recovered on the mesh, then, with |H| in the tangent plane,\n"
+    "      --error EPS         M = c/EPS |H| (L-infinity; with --norm p the L^p-optimal\n"
+    "                          metric of Loseille & Alauzet for the error EPS), or\n"
+    "      --complexity C      the L^p-optimal metric of complexity C (integral of\n"
+    "                          sqrt det M; about 2C/sqrt3 vertices), or\n"
+    "      --vertices N        the same for a predicted count of N vertices\n"
+    "      --norm P            p >= 1 or 'inf' (default inf)\n"
+    "      --error-constant c  c of the estimate (default 2/9, BAMG's)\n"
+    "  --curvature --hausd D geometric metric: sizes sqrt(8 D / |kappa_i|) along the\n"
+    "                        principal directions (chordal deviation D)\n"
+    "  --sol FILE            a metric (tensor) or size (scalar) from a .sol\n"
+    "\n"
+    "BOUNDS and gradation (applied in this order: clamp, gradation):\n"
+    "  --hmin A --hmax B     sizes clamped into [A, B]; for --hessian-of and --curvature\n"
+    "                        hmax defaults to the bounding-box diagonal\n"
+    "  --max-aniso K         largest ratio of sizes at a vertex\n"
+    "  --hgrad R             anisotropic gradation: sizes grow by at most about R per\n"
+    "                        unit metric length along edges (Mmg's -hgrad; off by default)\n"
+    "  --hgrad-space S       metric (default) or physical growth law\n"
+    "  -o OUT.sol            output (required)\n"
+    "\n"
+    "examples:\n"
+    "  anisurf metric square3d.mesh --hessian-of \"100*x^2\" --error 0.01 --hmax 1 -o sq.sol\n"
+    "  anisurf metric sphere.mesh --sol band.sol --hgrad 1.3 -o graded.sol\n";
 
 struct LoadedMetric {
   SurfaceMesh mesh;
@@ -127,7 +168,139 @@ int run_quality(const std::vector<std::string>& args) {
   return 0;
 }
 
+double positive_option(ArgParser& p, const std::string& name, double fallback) {
+  const double v = p.option_double(name, fallback);
+  if (!(v > 0)) throw UsageError{"option " + name + " expects a number > 0"};
+  return v;
+}
+
+int run_metric(const std::vector<std::string>& args) {
+  ArgParser p(args);
+  const std::string size = p.option("--size"), tensor = p.option("--tensor"), hessian_of = p.option("--hessian-of");
+  const std::string sol = p.option("--sol");
+  const bool curvature = p.flag("--curvature");
+  const std::string out = p.option("-o", "--output");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double error = p.option_double("--error", nan), complexity = p.option_double("--complexity", nan);
+  const double vertices = p.option_double("--vertices", nan), hausd = p.option_double("--hausd", nan);
+  const std::string norm_p = p.option("--norm");
+  const double error_constant = p.option_double("--error-constant", 2.0 / 9.0);
+  MetricBounds bounds;
+  bounds.hmin = p.option_double("--hmin", 0.0);
+  bounds.hmax = p.option_double("--hmax", std::numeric_limits<double>::infinity());
+  bounds.max_anisotropy = p.option_double("--max-aniso", std::numeric_limits<double>::infinity());
+  const double hgrad = p.option_double("--hgrad", nan);
+  const std::string hgrad_space = p.option("--hgrad-space");
+  const auto pos = p.positionals();
+  if (pos.size() != 1) throw UsageError{"expected one MESH"};
+  if (out.empty()) throw UsageError{"-o OUT.sol is required"};
+  const int sources = !size.empty() + !tensor.empty() + !hessian_of.empty() + curvature + !sol.empty();
+  if (sources != 1)
+    throw UsageError{"give exactly one source: --size, --tensor, --hessian-of, --curvature or --sol"};
+  if (!hessian_of.empty() && (!std::isnan(error) + !std::isnan(complexity) + !std::isnan(vertices)) != 1)
+    throw UsageError{"--hessian-of needs exactly one of --error EPS, --complexity C, --vertices N"};
+  if (curvature && !(hausd > 0)) throw UsageError{"--curvature needs --hausd D with D > 0"};
+  if (bounds.hmin < 0 || !(bounds.hmax > 0) || bounds.hmin > bounds.hmax || !(bounds.max_anisotropy >= 1))
+    throw UsageError{"bounds: need 0 <= hmin <= hmax and --max-aniso >= 1"};
+  GradationOptions grad;
+  if (!std::isnan(hgrad)) {
+    if (!(hgrad > 1)) throw UsageError{"--hgrad expects a ratio > 1"};
+    grad.ratio = hgrad;
+  }
+  if (!hgrad_space.empty() && hgrad_space != "metric" && hgrad_space != "physical")
+    throw UsageError{"--hgrad-space expects metric or physical"};
+  grad.space = hgrad_space == "physical" ? GradationSpace::Physical : GradationSpace::Metric;
+  double lp = std::numeric_limits<double>::infinity();
+  if (!norm_p.empty() && norm_p != "inf") {
+    try {
+      lp = std::stod(norm_p);
+    } catch (const std::exception&) {
+      throw UsageError{"--norm expects a number >= 1 or inf"};
+    }
+    if (!(lp >= 1)) throw UsageError{"--norm expects a number >= 1 or inf"};
+  }
+
+  const auto t0 = std::chrono::steady_clock::now();
+  LoadedMetric l = load_mesh_and_metric(pos[0], sol);
+  const SurfaceMesh& mesh = l.mesh;
+  const std::vector<int>& origin = l.report.vertex_origin;
+  std::string what;
+  MetricField M;
+  if (!size.empty()) {
+    M = metric_from_size_expression(mesh, size, origin);
+    what = "size " + size;
+  } else if (!tensor.empty()) {
+    M = metric_from_tensor_expression(mesh, tensor, origin);
+    what = "tensor " + tensor;
+  } else if (!hessian_of.empty()) {
+    const RecoveredDerivatives d = recover_derivatives(mesh, evaluate_at_vertices(mesh, hessian_of, origin));
+    HessianMetricOptions o;
+    o.p = lp;
+    o.error_constant = error_constant;
+    o.bounds = bounds;
+    if (!std::isnan(error)) o.error = error;
+    if (!std::isnan(complexity)) o.target_vertices = predicted_vertex_count(complexity);
+    if (!std::isnan(vertices)) o.target_vertices = vertices;
+    if (!(o.error > 0) && !(o.target_vertices > 0)) throw UsageError{"the error or the complexity must be > 0"};
+    M = hessian_metric(mesh, d.hessian, o);
+    what = "Hessian of " + hessian_of;
+  } else if (curvature) {
+    M = curvature_metric(mesh, hausd, bounds);
+    what = "curvature, hausd " + std::to_string(hausd);
+  } else {
+    M = std::move(l.metric);
+    what = "from " + sol;
+  }
+  if (std::isfinite(bounds.hmax) || bounds.hmin > 0 || std::isfinite(bounds.max_anisotropy))
+    clamp_metric_field(mesh, M, bounds);
+  GradationReport gr;
+  if (!std::isnan(hgrad)) {
+    gr = gradate_metric(mesh, M, grad);
+    if (!gr.converged) std::cerr << "anisurf metric: warning: gradation stopped at its update cap\n";
+  }
+  check_metric_field(mesh, M, origin);
+
+  // Back to the numbering of the file's vertices.
+  const int n_file = l.report.input_vertices;
+  const bool planar = mesh.dimension() == 2;
+  const double fallback_h = mesh.bbox().diagonal();
+  FieldData f;
+  f.info = FieldInfo{"metric", FieldKind::Tensor, planar ? 3 : 6};
+  f.values.reserve(static_cast<std::size_t>(n_file) * f.info.ncomp);
+  for (int i = 0; i < n_file; ++i) {
+    const int v = i < static_cast<int>(l.report.vertex_map.size()) ? l.report.vertex_map[i] : -1;
+    const SymTensor3 T = v >= 0 ? M[v] : isotropic_metric(fallback_h > 0 ? fallback_h : 1.0);  // dropped vertex
+    f.values.insert(f.values.end(), T.m.begin(), T.m.begin() + f.info.ncomp);
+  }
+  write_sol(out, {f}, n_file, planar ? 2 : 3);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  double hmin_out = INFINITY, hmax_out = 0;
+  for (int v = 0; v < mesh.vertex_capacity(); ++v) {
+    if (mesh.is_deleted(Vertex(v))) continue;
+    const SymEigen3 e = eigen_decompose(M[v]);
+    hmin_out = std::min(hmin_out, 1 / std::sqrt(e.values[2]));
+    hmax_out = std::max(hmax_out, 1 / std::sqrt(e.values[0]));
+  }
+  const double C = metric_complexity(mesh, M);
+  std::printf("metric      %s\n", what.c_str());
+  std::printf("vertices    %d\n", mesh.n_vertices());
+  std::printf("sizes       %.6g .. %.6g\n", hmin_out, hmax_out);
+  std::printf("complexity  %.6g  (predicted vertices %.0f)\n", C, predicted_vertex_count(C));
+  if (!std::isnan(hgrad))
+    std::printf("gradation   ratio %g (%s space): %lld updates at %d vertices, %s\n", grad.ratio,
+                grad.space == GradationSpace::Metric ? "metric" : "physical", gr.updates, gr.vertices_changed,
+                gr.converged ? "converged" : "NOT converged");
+  std::printf("written     %s (%.3f s)\n", out.c_str(), seconds);
+  return 0;
+}
+
 }  // namespace
+
+Command metric_command() {
+  return {"metric", "build a metric field (size, tensor, Hessian of f, curvature, .sol) with bounds and gradation",
+          kMetricHelp, run_metric};
+}
 
 Command quality_command() {
   return {"quality", "measure a mesh against a metric: edge lengths, c_K (eq. 17), mean ratio", kQualityHelp,
