@@ -1,0 +1,238 @@
+#include "render/viewer.h"
+
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <thread>
+
+#include "render/gl.h"
+#include "render/gpu.h"
+#include "render/image.h"
+#include "render/renderer.h"
+
+namespace anisurf::render {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct GlfwLibrary {
+  GlfwLibrary() {
+    glfwSetErrorCallback([](int code, const char* msg) { last_error() = msg ? msg : "?"; });
+    if (!glfwInit()) {
+      const char* display = std::getenv("DISPLAY");
+      throw GlError("cannot open a window: " + last_error() +
+                    (display && *display ? "" : " (no DISPLAY: use `anisurf shot` for pictures without a display, "
+                                                "or run under xvfb-run)"));
+    }
+  }
+  ~GlfwLibrary() { glfwTerminate(); }
+  static std::string& last_error() {
+    static std::string e;
+    return e;
+  }
+};
+
+// What the callbacks change (reached through the window's user pointer).
+struct Input {
+  Scene* scene = nullptr;
+  UiState* ui = nullptr;
+  double last_x = 0, last_y = 0;
+  bool rotating = false, panning = false;
+  bool screenshot = false;
+  Clock::time_point last_event = Clock::now();
+};
+
+Input& input_of(GLFWwindow* w) { return *static_cast<Input*>(glfwGetWindowUserPointer(w)); }
+
+void on_mouse_button(GLFWwindow* w, int button, int action, int mods) {
+  Input& in = input_of(w);
+  in.last_event = Clock::now();
+  if (action == GLFW_PRESS && ImGui::GetIO().WantCaptureMouse) return;
+  glfwGetCursorPos(w, &in.last_x, &in.last_y);
+  bool press = action == GLFW_PRESS;
+  if (button == GLFW_MOUSE_BUTTON_LEFT && !(mods & GLFW_MOD_SHIFT)) in.rotating = press;
+  if (button == GLFW_MOUSE_BUTTON_RIGHT || button == GLFW_MOUSE_BUTTON_MIDDLE ||
+      (button == GLFW_MOUSE_BUTTON_LEFT && (mods & GLFW_MOD_SHIFT)))
+    in.panning = press;
+  if (!press) in.rotating = in.panning = false;
+}
+
+void on_cursor(GLFWwindow* w, double x, double y) {
+  Input& in = input_of(w);
+  in.last_event = Clock::now();
+  double dx = x - in.last_x, dy = y - in.last_y;
+  in.last_x = x;
+  in.last_y = y;
+  int ww = 1, wh = 1;
+  glfwGetWindowSize(w, &ww, &wh);
+  Camera& cam = in.scene->camera;
+  if (in.rotating) cam.orbit(static_cast<float>(-dx / wh * 3.0), static_cast<float>(dy / wh * 3.0));
+  if (in.panning) cam.pan(static_cast<float>(dx / wh), static_cast<float>(-dy / wh));
+}
+
+void on_scroll(GLFWwindow* w, double, double dy) {
+  Input& in = input_of(w);
+  in.last_event = Clock::now();
+  if (ImGui::GetIO().WantCaptureMouse) return;
+  in.scene->camera.zoom(static_cast<float>(std::pow(0.88, dy)));
+}
+
+void on_key(GLFWwindow* w, int key, int, int action, int mods) {
+  Input& in = input_of(w);
+  in.last_event = Clock::now();
+  if (action != GLFW_PRESS || ImGui::GetIO().WantCaptureKeyboard) return;
+  Scene& s = *in.scene;
+  auto view = [&](NamedView v) {
+    s.camera.set_view(v);
+    in.ui->fit_requested = true;
+  };
+  switch (key) {
+    case GLFW_KEY_1: view(NamedView::Iso); break;
+    case GLFW_KEY_2: view(NamedView::Front); break;
+    case GLFW_KEY_3: view(NamedView::Back); break;
+    case GLFW_KEY_4: view(NamedView::Left); break;
+    case GLFW_KEY_5: view(NamedView::Right); break;
+    case GLFW_KEY_6: view(NamedView::Top); break;
+    case GLFW_KEY_7: view(NamedView::Bottom); break;
+    case GLFW_KEY_F: in.ui->fit_requested = true; break;
+    case GLFW_KEY_O:
+      s.camera.orthographic = !s.camera.orthographic;
+      in.ui->fit_requested = true;
+      break;
+    case GLFW_KEY_W: s.display.wireframe = !s.display.wireframe; break;
+    case GLFW_KEY_S: s.display.flat = !s.display.flat; break;
+    case GLFW_KEY_G:
+      for (auto& st : s.surfaces)
+        for (auto& g : st.glyphs) g.enabled = !g.enabled;
+      break;
+    case GLFW_KEY_H: in.ui->show_panel = !in.ui->show_panel; break;
+    case GLFW_KEY_P: in.screenshot = true; break;
+    case GLFW_KEY_ESCAPE:
+    case GLFW_KEY_Q: glfwSetWindowShouldClose(w, GLFW_TRUE); break;
+    default: break;
+  }
+  (void)mods;
+}
+
+}  // namespace
+
+const char* viewer_keys() {
+  return "  mouse: left drag orbit, right drag (or shift + left) pan, wheel zoom\n"
+         "  keys:  1 iso  2 front  3 back  4 left  5 right  6 top  7 bottom  F fit\n"
+         "         O orthographic/perspective  W wireframe  S flat/smooth  G glyphs\n"
+         "         H hide/show the panel  P screenshot (anisurf-view.png)  Q/Esc quit\n";
+}
+
+void run_viewer(Scene& scene, UiState& ui, const ViewerOptions& options) {
+  GlfwLibrary glfw;
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  GLFWwindow* window = glfwCreateWindow(options.width, options.height, options.title.c_str(), nullptr, nullptr);
+  if (!window) throw GlError("cannot create an OpenGL 3.3 core window: " + GlfwLibrary::last_error());
+  struct WindowGuard {
+    GLFWwindow* w;
+    ~WindowGuard() { glfwDestroyWindow(w); }
+  } guard{window};
+  glfwMakeContextCurrent(window);
+  auto missing = gl::load_gl(reinterpret_cast<gl::GetProcAddress>(&glfwGetProcAddress));
+  if (!missing.empty()) throw GlError("the window's OpenGL lacks " + missing.front() + ": OpenGL 3.3 core is required");
+  glfwSwapInterval(options.bench_orbit_frames > 0 ? 0 : 1);
+
+  Input input;
+  input.scene = &scene;
+  input.ui = &ui;
+  glfwSetWindowUserPointer(window, &input);
+  glfwSetMouseButtonCallback(window, on_mouse_button);
+  glfwSetCursorPosCallback(window, on_cursor);
+  glfwSetScrollCallback(window, on_scroll);
+  glfwSetKeyCallback(window, on_key);
+
+  Renderer renderer;
+  ImGuiSession imgui;
+  // ImGui's GLFW backend chains to the callbacks installed above.
+  ImGui_ImplGlfw_InitForOpenGL(window, true);
+  ImGui_ImplOpenGL3_Init("#version 330 core");
+  struct BackendGuard {
+    ~BackendGuard() {
+      ImGui_ImplOpenGL3_Shutdown();
+      ImGui_ImplGlfw_Shutdown();
+    }
+  } backends;
+
+  int fbw = 0, fbh = 0;
+  glfwGetFramebufferSize(window, &fbw, &fbh);
+  scene.fit_camera(static_cast<float>(fbw) / std::max(fbh, 1));
+
+  const bool bench = options.bench_orbit_frames > 0;
+  const float start_yaw = scene.camera.yaw;
+  const auto frame_budget = std::chrono::duration<double>(1.0 / std::max(options.max_fps, 1.0));
+  auto bench_start = Clock::now();
+  auto fps_start = Clock::now();
+  int fps_frames = 0;
+  for (int frame = 0; !glfwWindowShouldClose(window); ++frame) {
+    auto frame_start = Clock::now();
+    // Idle (nothing happened for a second): wait for events instead of
+    // redrawing the same picture.
+    if (!bench && frame_start - input.last_event > std::chrono::seconds(1))
+      glfwWaitEventsTimeout(0.5);
+    else
+      glfwPollEvents();
+    glfwGetFramebufferSize(window, &fbw, &fbh);
+    if (fbw <= 0 || fbh <= 0) continue;  // minimised
+    if (ui.fit_requested) {
+      scene.fit_camera(static_cast<float>(fbw) / static_cast<float>(fbh));
+      ui.fit_requested = false;
+    }
+    if (bench) {
+      // Frame 0 uploads the buffers and warms up: the timing starts after it.
+      if (frame == 1) bench_start = Clock::now();
+      if (frame == options.bench_orbit_frames + 1) break;
+      scene.camera.yaw = start_yaw + 6.2831853f * static_cast<float>(frame) / options.bench_orbit_frames;
+    }
+    renderer.render(scene, fbw, fbh);
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    draw_ui(scene, ui, fbw, fbh);
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    if (input.screenshot) {
+      input.screenshot = false;
+      Image img(fbw, fbh);
+      gl::glPixelStorei(GL_PACK_ALIGNMENT, 1);
+      gl::glReadPixels(0, 0, fbw, fbh, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
+      img.flip_rows();
+      for (std::size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 255;
+      write_png("anisurf-view.png", img);
+      std::fprintf(stderr, "view: wrote anisurf-view.png (%dx%d)\n", fbw, fbh);
+    }
+    glfwSwapBuffers(window);
+
+    ++fps_frames;
+    double since = std::chrono::duration<double>(Clock::now() - fps_start).count();
+    if (since >= 0.5) {
+      ui.fps = static_cast<float>(fps_frames / since);
+      fps_frames = 0;
+      fps_start = Clock::now();
+    }
+    if (!bench) std::this_thread::sleep_until(frame_start + std::chrono::duration_cast<Clock::duration>(frame_budget));
+  }
+  if (bench) {
+    gl::glFinish();
+    double s = std::chrono::duration<double>(Clock::now() - bench_start).count();
+    std::size_t tris = 0;
+    for (const auto& st : scene.surfaces) tris += st.geometry.triangles.size();
+    std::printf("orbit: %d frames in %.2f s = %.1f fps (%dx%d, %zu triangles, %s)\n", options.bench_orbit_frames, s,
+                options.bench_orbit_frames / s, fbw, fbh, tris, gl::gl_description().c_str());
+  }
+}
+
+}  // namespace anisurf::render
