@@ -92,6 +92,9 @@ TEST_CASE("gradation: propagated metrics follow the two growth laws") {
   GradationOptions bad;
   bad.ratio = 1.0;
   CHECK_THROWS_AS(gradate_metric({Vec3()}, {}, one, bad), MetricError);
+  std::vector<SymTensor3> two = {Mp, SymTensor3(1, 2, 1, 0, 0, 1)};
+  CHECK_THROWS_WITH_AS(gradate_metric({Vec3(), Vec3(1, 0, 0)}, {{0, 1}}, two, GradationOptions{}),
+                       doctest::Contains("vertex 2"), MetricError);
 }
 
 TEST_CASE("gradation: a random anisotropic field on a grid, metric and physical space") {

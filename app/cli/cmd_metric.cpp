@@ -168,12 +168,6 @@ int run_quality(const std::vector<std::string>& args) {
   return 0;
 }
 
-double positive_option(ArgParser& p, const std::string& name, double fallback) {
-  const double v = p.option_double(name, fallback);
-  if (!(v > 0)) throw UsageError{"option " + name + " expects a number > 0"};
-  return v;
-}
-
 int run_metric(const std::vector<std::string>& args) {
   ArgParser p(args);
   const std::string size = p.option("--size"), tensor = p.option("--tensor"), hessian_of = p.option("--hessian-of");

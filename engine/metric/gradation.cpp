@@ -37,6 +37,13 @@ GradationReport gradate_metric(const std::vector<Vec3>& positions, const std::ve
     throw MetricError("gradation: " + std::to_string(metric.size()) + " metrics for " +
                       std::to_string(positions.size()) + " vertices");
   const int n = static_cast<int>(positions.size());
+  for (const auto& e : edges) {
+    if (e[0] < 0 || e[1] < 0 || e[0] >= n || e[1] >= n)
+      throw MetricError("gradation: edge (" + std::to_string(e[0]) + ", " + std::to_string(e[1]) +
+                        ") refers to a vertex out of range");
+    check_metric(metric[e[0]], e[0]);
+    check_metric(metric[e[1]], e[1]);
+  }
   // Adjacency in compressed rows.
   std::vector<int> start(n + 1, 0), nbr(2 * edges.size());
   for (const auto& e : edges) {

@@ -52,7 +52,8 @@ double edge_gradation_excess(const SymTensor3& Mp, const SymTensor3& Mq, const V
                              const GradationOptions& options);
 
 // Grades the vertex metrics `metric` (one per position) along `edges`
-// (pairs of vertex indices). Pre: every metric SPD, options.ratio > 1.
+// (pairs of vertex indices). Throws MetricError if options.ratio <= 1, an edge
+// is out of range or a metric on an edge is not SPD (naming the vertex).
 GradationReport gradate_metric(const std::vector<Vec3>& positions, const std::vector<std::array<int, 2>>& edges,
                                std::vector<SymTensor3>& metric, const GradationOptions& options = {});
 
