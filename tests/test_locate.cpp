@@ -186,14 +186,16 @@ TEST_CASE("AABB tree over the triangles of every shared mesh agrees with brute f
                          "thinker.mesh",  "camelhead.off", "beetle.off",      "bun_zipper_res2.ply",
                          "Box.glb",       "Duck.glb",      "Suzanne.gltf",    "Avocado.gltf"};
   for (const char* f : files) {
-    CAPTURE(f);
+    const std::string name = f;
+    CAPTURE(name);
     const std::string path = test::shared_file(std::string("meshes/") + f);
     if (path.empty()) {
       MESSAGE("skipped: ../shared/meshes not found (no shared test data)");
       return;
     }
     const SurfaceMesh m = load_mesh(path);
-    const std::vector<int> tris = test::live_triangles(m);
+    const test::PointSampler sample(m);
+    const std::vector<int>& tris = sample.triangles();
     std::vector<BBox> boxes(static_cast<std::size_t>(m.triangle_capacity()));
     for (int t : tris)
       for (const Vec3& p : test::triangle_points(m, t)) boxes[t].add(p);
@@ -205,8 +207,8 @@ TEST_CASE("AABB tree over the triangles of every shared mesh agrees with brute f
     const int n = std::clamp(10000000 / static_cast<int>(tris.size()), 200, 2000);
     int bad = 0;
     for (int i = 0; i < n; ++i) {
-      const auto np = i % 8 == 0 ? test::random_point_near(m, tris, rng, 0, 0)
-                                 : test::random_point_near(m, tris, rng, 1e-3, 5e-2);
+      const auto np = i % 8 == 0 ? sample(rng, 0, 0)
+                                 : sample(rng, 1e-3, 5e-2);
       double best = INFINITY;
       const int t = tree.nearest(
           [&](const Vec3& lo, const Vec3& hi) { return box_point_distance2(lo, hi, np.x); },

@@ -130,12 +130,20 @@ double segment_triangle_distance2(const Vec3& p, const Vec3& q, const Vec3& a, c
 }
 
 double triangle_triangle_distance2(const std::array<Vec3, 3>& s, const std::array<Vec3, 3>& t) {
-  // Two triangles are closest (or intersect) at a point of an edge of one of them.
+  // Intersecting triangles have an edge of one crossing the other. Otherwise a
+  // closest pair has a vertex of one triangle, or a point on an edge of each.
+  for (int k = 0; k < 3; ++k)
+    if (segment_crosses_triangle(s[k], s[(k + 1) % 3], t[0], t[1], t[2]) ||
+        segment_crosses_triangle(t[k], t[(k + 1) % 3], s[0], s[1], s[2]))
+      return 0;
   double d = INFINITY;
-  for (int k = 0; k < 3 && d > 0; ++k) {
-    d = std::min(d, segment_triangle_distance2(s[k], s[(k + 1) % 3], t[0], t[1], t[2]));
-    d = std::min(d, segment_triangle_distance2(t[k], t[(k + 1) % 3], s[0], s[1], s[2]));
+  for (int k = 0; k < 3; ++k) {
+    d = std::min(d, point_triangle_distance2(s[k], t[0], t[1], t[2]));
+    d = std::min(d, point_triangle_distance2(t[k], s[0], s[1], s[2]));
   }
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      d = std::min(d, segment_segment_distance2(s[i], s[(i + 1) % 3], t[j], t[(j + 1) % 3]));
   return d;
 }
 

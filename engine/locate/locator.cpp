@@ -1,0 +1,467 @@
+#include "locate/locator.h"
+
+#include <algorithm>
+#include <cassert>
+#include <deque>
+
+#include "locate/closest_point.h"
+
+namespace anisurf {
+
+// Everything a query reads, built once from the mesh and shared by copies.
+struct Locator::Data {
+  const SurfaceMesh* mesh = nullptr;
+  LocateOptions options;
+  double scale = 0;  // bounding box diagonal
+
+  // Triangles, by slot (deleted slots: tv[3t] == -1).
+  int n_slots = 0;
+  std::vector<int> tv;            // 3 vertex ids per slot
+  std::vector<Vec3> tp;           // 3 positions per slot
+  std::vector<int> vt_first, vt;  // vertex -> incident triangles (CSR)
+  std::vector<double> vclear;     // per vertex slot: clearance rho(v), minus a rounding margin
+  AabbTree tree;
+
+  // Feature edges (each edge once).
+  std::vector<int> fe_corner;               // a corner opposite the edge
+  std::vector<std::array<int, 2>> fe_v;     // endpoints
+  std::vector<Vec3> fe_p;                   // 2 positions per edge
+  std::vector<int> vf_first, vf;            // vertex -> incident feature edges (CSR)
+  std::vector<double> vfclear;              // per vertex slot: clearance among feature edges
+  std::vector<int> corner_fe;               // per corner: its feature edge or -1
+  AabbTree fe_tree;
+
+  // Fixed corners.
+  std::vector<int> corners;  // vertex ids
+  AabbTree corner_tree;
+
+  double tri_d2(const Vec3& x, int t) const {
+    const Vec3* p = &tp[3 * static_cast<std::size_t>(t)];
+    return point_triangle_distance2(x, p[0], p[1], p[2]);
+  }
+  double seg_d2(const Vec3& x, int e) const {
+    return point_segment_distance2(x, fe_p[2 * static_cast<std::size_t>(e)], fe_p[2 * static_cast<std::size_t>(e) + 1]);
+  }
+  // No element outside the neighbourhood of the element with vertices v[0..n)
+  // at positions p[0..n) is closer to x than d: true when |x - v| + d <= rho(v)
+  // for one of them (triangle inequality; every element outside that
+  // neighbourhood misses v).
+  static bool certified(const Vec3& x, double d, const int* v, const Vec3* p, int n, const std::vector<double>& rho) {
+    for (int k = 0; k < n; ++k)
+      if (norm(x - p[k]) + d <= rho[v[k]]) return true;
+    return false;
+  }
+  bool live_triangle(int t) const { return t >= 0 && t < n_slots && tv[3 * static_cast<std::size_t>(t)] >= 0; }
+
+  void build(const SurfaceMesh& m, const LocateOptions& o);
+  void build_triangles();
+  void build_features();
+  void build_corners();
+};
+
+namespace {
+
+// A clearance lowered by a margin for rounding.
+double with_margin(double clearance, double scale) {
+  return std::max(0.0, clearance * (1 - 1e-9) - 1e-13 * scale);
+}
+
+BBox box_of(const Vec3* p, int n) {
+  BBox b;
+  for (int i = 0; i < n; ++i) b.add(p[i]);
+  return b;
+}
+
+// CSR adjacency from (key, value) pairs with keys in [0, n_keys).
+void build_csr(int n_keys, const std::vector<std::array<int, 2>>& pairs, std::vector<int>& first, std::vector<int>& out) {
+  first.assign(static_cast<std::size_t>(n_keys) + 1, 0);
+  for (const auto& p : pairs) ++first[static_cast<std::size_t>(p[0]) + 1];
+  for (int i = 0; i < n_keys; ++i) first[i + 1] += first[i];
+  out.assign(pairs.size(), 0);
+  std::vector<int> fill(first.begin(), first.end() - 1);
+  for (const auto& p : pairs) out[static_cast<std::size_t>(fill[p[0]]++)] = p[1];
+}
+
+}  // namespace
+
+void Locator::Data::build(const SurfaceMesh& m, const LocateOptions& o) {
+  mesh = &m;
+  options = o;
+  scale = m.bbox().diagonal();
+  build_triangles();
+  build_features();
+  build_corners();
+}
+
+void Locator::Data::build_triangles() {
+  const SurfaceMesh& m = *mesh;
+  n_slots = m.triangle_capacity();
+  tv.assign(3 * static_cast<std::size_t>(n_slots), -1);
+  tp.assign(3 * static_cast<std::size_t>(n_slots), Vec3());
+  std::vector<BBox> boxes(static_cast<std::size_t>(n_slots));
+  std::vector<std::array<int, 2>> pairs;
+  pairs.reserve(3 * static_cast<std::size_t>(n_slots));
+  for (int t = 0; t < n_slots; ++t) {
+    if (m.is_deleted(Triangle(t))) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Vertex v = m.vertex(Triangle(t), k);
+      tv[3 * t + k] = v.idx;
+      tp[3 * t + k] = m.position(v);
+      pairs.push_back({v.idx, t});
+    }
+    boxes[t] = box_of(&tp[3 * t], 3);
+  }
+  build_csr(m.vertex_capacity(), pairs, vt_first, vt);
+  tree.build(boxes);
+
+  // Clearance of each vertex: the distance to the nearest triangle not incident to it.
+  vclear.assign(static_cast<std::size_t>(m.vertex_capacity()), 0.0);
+  for (int v = 0; v < m.vertex_capacity(); ++v) {
+    if (vt_first[v] == vt_first[v + 1]) continue;
+    const Vec3 x = m.position(Vertex(v));
+    double best = INFINITY;
+    tree.nearest([&](const Vec3& lo, const Vec3& hi) { return box_point_distance2(lo, hi, x); },
+                 [&](int t, double) -> double {
+                   const int* a = &tv[3 * t];
+                   if (a[0] == v || a[1] == v || a[2] == v) return INFINITY;
+                   return tri_d2(x, t);
+                 },
+                 best);
+    vclear[v] = with_margin(std::sqrt(best), scale);
+  }
+}
+
+void Locator::Data::build_features() {
+  const SurfaceMesh& m = *mesh;
+  corner_fe.assign(3 * static_cast<std::size_t>(n_slots), -1);
+  std::vector<std::array<int, 2>> pairs;
+  for (int t = 0; t < n_slots; ++t) {
+    if (tv[3 * t] < 0) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Corner c = SurfaceMesh::corner(Triangle(t), k);
+      if (!(m.edge_tags(c) & options.feature_tags)) continue;
+      const Corner canon = m.canonical(c);
+      if (canon != c) continue;  // the other side registers the edge
+      const int e = static_cast<int>(fe_corner.size());
+      fe_corner.push_back(c.idx);
+      const Vertex a = m.edge_from(c), b = m.edge_to(c);
+      fe_v.push_back({a.idx, b.idx});
+      fe_p.push_back(m.position(a));
+      fe_p.push_back(m.position(b));
+      corner_fe[c.idx] = e;
+      const Corner o = m.opposite(c);
+      if (o.is_valid()) corner_fe[o.idx] = e;
+      pairs.push_back({a.idx, e});
+      pairs.push_back({b.idx, e});
+    }
+  }
+  build_csr(m.vertex_capacity(), pairs, vf_first, vf);
+  const int ne = static_cast<int>(fe_corner.size());
+  std::vector<BBox> boxes(static_cast<std::size_t>(ne));
+  for (int e = 0; e < ne; ++e) boxes[e] = box_of(&fe_p[2 * e], 2);
+  fe_tree.build(boxes);
+
+  // Clearance of each vertex on a feature curve: the distance to the nearest
+  // feature edge not incident to it.
+  vfclear.assign(static_cast<std::size_t>(m.vertex_capacity()), 0.0);
+  for (int v = 0; v < m.vertex_capacity(); ++v) {
+    if (vf_first[v] == vf_first[v + 1]) continue;
+    const Vec3 x = m.position(Vertex(v));
+    double best = INFINITY;
+    fe_tree.nearest([&](const Vec3& lo, const Vec3& hi) { return box_point_distance2(lo, hi, x); },
+                    [&](int e, double) -> double {
+                      if (fe_v[e][0] == v || fe_v[e][1] == v) return INFINITY;
+                      return seg_d2(x, e);
+                    },
+                    best);
+    vfclear[v] = with_margin(std::sqrt(best), scale);
+  }
+}
+
+void Locator::Data::build_corners() {
+  const SurfaceMesh& m = *mesh;
+  std::vector<BBox> boxes;
+  for (int v = 0; v < m.vertex_capacity(); ++v) {
+    const Vertex vh(v);
+    if (m.is_deleted(vh) || m.is_isolated(vh)) continue;
+    if (!(m.vertex_tags(vh) & options.corner_tags)) continue;
+    corners.push_back(v);
+    BBox b;
+    b.add(m.position(vh));
+    boxes.push_back(b);
+  }
+  corner_tree.build(boxes);
+}
+
+// --- Locator ------------------------------------------------------------------
+
+Locator::Locator(const SurfaceMesh& mesh, const LocateOptions& options) {
+  auto d = std::make_shared<Data>();
+  d->build(mesh, options);
+  d_ = std::move(d);
+}
+Locator::Locator(const Locator& other) : d_(other.d_) {}
+Locator& Locator::operator=(const Locator& other) {
+  if (this != &other) {
+    d_ = other.d_;
+    tmark_.clear();
+    fmark_.clear();
+    stamp_ = 0;
+  }
+  return *this;
+}
+Locator::Locator(Locator&&) noexcept = default;
+Locator& Locator::operator=(Locator&&) noexcept = default;
+Locator::~Locator() = default;
+
+const SurfaceMesh& Locator::mesh() const { return *d_->mesh; }
+const LocateOptions& Locator::options() const { return d_->options; }
+int Locator::n_feature_edges() const { return static_cast<int>(d_->fe_corner.size()); }
+int Locator::n_corners() const { return static_cast<int>(d_->corners.size()); }
+double Locator::clearance(Vertex v) const {
+  return v.idx >= 0 && v.idx < static_cast<int>(d_->vclear.size()) ? d_->vclear[v.idx] : 0.0;
+}
+const AabbTree& Locator::tree() const { return d_->tree; }
+
+void Locator::next_stamp() {
+  if (tmark_.size() != static_cast<std::size_t>(d_->n_slots) || fmark_.size() != d_->fe_corner.size() ||
+      stamp_ == UINT32_MAX) {
+    tmark_.assign(static_cast<std::size_t>(d_->n_slots), 0);
+    fmark_.assign(d_->fe_corner.size(), 0);
+    stamp_ = 0;
+  }
+  ++stamp_;
+}
+
+Location Locator::project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) {
+  if (constraint == Constraint::Fixed) {
+    if (!d_->corners.empty()) return project_corner(x);
+    constraint = Constraint::OnFeature;
+  }
+  if (constraint == Constraint::OnFeature && !d_->fe_corner.empty()) return project_feature(x, hints);
+  return project_free(x, hints);
+}
+
+Location Locator::free_result(const Vec3& x, int t, int steps, bool fallback) const {
+  Location r;
+  if (t < 0) return r;
+  const Vec3* p = &d_->tp[3 * static_cast<std::size_t>(t)];
+  const TriangleClosest c = closest_point_on_triangle(x, p[0], p[1], p[2]);
+  r.triangle = Triangle(t);
+  r.bary = c.bary;
+  r.point = c.point;
+  r.distance = std::sqrt(c.distance2);
+  r.steps = steps;
+  r.used_fallback = fallback;
+  r.constraint = Constraint::Free;
+  return r;
+}
+
+Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
+  const Data& D = *d_;
+  next_stamp();
+  // K_0: the closest of the hinted triangles.
+  int K = -1;
+  double dK = INFINITY;
+  for (const Hint& h : hints) {
+    const int t = h.triangle.idx;
+    if (!D.live_triangle(t) || tmark_[t] == stamp_) continue;
+    tmark_[t] = stamp_;
+    const double d = D.tri_d2(x, t);
+    if (d < dK) {
+      dK = d;
+      K = t;
+    }
+  }
+  auto global = [&](int start, double bound, int steps) {
+    const int found = D.tree.nearest([&](const Vec3& lo, const Vec3& hi) { return box_point_distance2(lo, hi, x); },
+                                     [&](int t, double) { return D.tri_d2(x, t); }, bound);
+    return free_result(x, found >= 0 ? found : start, steps, true);
+  };
+  if (K < 0) return global(-1, INFINITY, 0);
+
+  // Section 4.2: move to the closest unmarked triangle of the neighbourhood
+  // E(K) while it is closer (ties stay: the closest point is the same).
+  int steps = 0;
+  for (;;) {
+    int best = -1;
+    double bd = INFINITY;
+    const int* v = &D.tv[3 * static_cast<std::size_t>(K)];
+    for (int k = 0; k < 3; ++k) {
+      for (int i = D.vt_first[v[k]]; i < D.vt_first[v[k] + 1]; ++i) {
+        const int t = D.vt[i];
+        if (tmark_[t] == stamp_) continue;
+        tmark_[t] = stamp_;
+        const double d = D.tri_d2(x, t);
+        if (d < bd) {
+          bd = d;
+          best = t;
+        }
+      }
+    }
+    if (best < 0 || !(bd < dK)) break;  // local minimum: every triangle of E(K) evaluated
+    K = best;
+    dK = bd;
+    if (++steps >= D.options.max_steps) return global(K, dK, steps);
+  }
+  if (Data::certified(x, std::sqrt(dK), &D.tv[3 * static_cast<std::size_t>(K)], &D.tp[3 * static_cast<std::size_t>(K)], 3,
+                      D.vclear))
+    return free_result(x, K, steps, false);
+  return global(K, dK, steps);
+}
+
+Location Locator::feature_result(const Vec3& x, int e, int steps, bool fallback) const {
+  const Data& D = *d_;
+  Location r;
+  const Corner c(D.fe_corner[e]);
+  const Vec3& a = D.fe_p[2 * static_cast<std::size_t>(e)];
+  const Vec3& b = D.fe_p[2 * static_cast<std::size_t>(e) + 1];
+  const double t = closest_parameter_on_segment(x, a, b);
+  r.point = t == 0 ? a : (t == 1 ? b : a + t * (b - a));
+  r.distance = norm(x - r.point);
+  r.triangle = SurfaceMesh::triangle(c);
+  r.bary = {0, 0, 0};
+  r.bary[SurfaceMesh::local_index(SurfaceMesh::next(c))] = 1 - t;
+  r.bary[SurfaceMesh::local_index(SurfaceMesh::prev(c))] = t;
+  r.steps = steps;
+  r.used_fallback = fallback;
+  r.constraint = Constraint::OnFeature;
+  r.edge = c;
+  return r;
+}
+
+Location Locator::project_feature(const Vec3& x, std::span<const Hint> hints) {
+  const Data& D = *d_;
+  next_stamp();
+  // Start from the closest feature edge of the hinted triangles or at their vertices.
+  int E = -1;
+  double dE = INFINITY;
+  auto consider = [&](int e) {
+    if (fmark_[e] == stamp_) return;
+    fmark_[e] = stamp_;
+    const double d = D.seg_d2(x, e);
+    if (d < dE) {
+      dE = d;
+      E = e;
+    }
+  };
+  for (const Hint& h : hints) {
+    const int t = h.triangle.idx;
+    if (!D.live_triangle(t)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int e = D.corner_fe[3 * static_cast<std::size_t>(t) + k];
+      if (e >= 0) consider(e);
+      const int v = D.tv[3 * static_cast<std::size_t>(t) + k];
+      for (int i = D.vf_first[v]; i < D.vf_first[v + 1]; ++i) consider(D.vf[i]);
+    }
+  }
+  auto global = [&](int start, double bound, int steps) {
+    const int found =
+        D.fe_tree.nearest([&](const Vec3& lo, const Vec3& hi) { return box_point_distance2(lo, hi, x); },
+                          [&](int e, double) { return D.seg_d2(x, e); }, bound);
+    return feature_result(x, found >= 0 ? found : start, steps, true);
+  };
+  if (E < 0) return global(-1, INFINITY, 0);
+
+  // The descent of section 4.2 along the feature curves: the neighbourhood of
+  // an edge is the feature edges sharing an endpoint with it.
+  int steps = 0;
+  for (;;) {
+    int best = -1;
+    double bd = INFINITY;
+    for (int j = 0; j < 2; ++j) {
+      const int v = D.fe_v[E][j];
+      for (int i = D.vf_first[v]; i < D.vf_first[v + 1]; ++i) {
+        const int e = D.vf[i];
+        if (fmark_[e] == stamp_) continue;
+        fmark_[e] = stamp_;
+        const double d = D.seg_d2(x, e);
+        if (d < bd) {
+          bd = d;
+          best = e;
+        }
+      }
+    }
+    if (best < 0 || !(bd < dE)) break;
+    E = best;
+    dE = bd;
+    if (++steps >= D.options.max_steps) return global(E, dE, steps);
+  }
+  if (Data::certified(x, std::sqrt(dE), D.fe_v[E].data(), &D.fe_p[2 * static_cast<std::size_t>(E)], 2, D.vfclear))
+    return feature_result(x, E, steps, false);
+  return global(E, dE, steps);
+}
+
+Location Locator::project_corner(const Vec3& x) {
+  const Data& D = *d_;
+  double best = INFINITY;
+  const int i = D.corner_tree.nearest([&](const Vec3& lo, const Vec3& hi) { return box_point_distance2(lo, hi, x); },
+                                      [&](int k, double) { return norm2(x - D.mesh->position(Vertex(D.corners[k]))); },
+                                      best);
+  Location r;
+  if (i < 0) return r;
+  const Vertex v(D.corners[i]);
+  const Corner c = D.mesh->corner(v);
+  r.triangle = SurfaceMesh::triangle(c);
+  r.bary = {0, 0, 0};
+  r.bary[SurfaceMesh::local_index(c)] = 1;
+  r.point = D.mesh->position(v);
+  r.distance = std::sqrt(best);
+  r.used_fallback = true;
+  r.constraint = Constraint::Fixed;
+  r.vertex = v;
+  return r;
+}
+
+// --- helpers on T_1 -------------------------------------------------------------
+
+Constraint vertex_constraint(const SurfaceMesh& mesh, Vertex v, std::uint8_t feature_tags, std::uint8_t corner_tags) {
+  if (mesh.vertex_tags(v) & corner_tags) return Constraint::Fixed;
+  // The two edges at v in each triangle of its fan (a boundary fan's last edge included).
+  for (Corner c : mesh.fan(v))
+    if ((mesh.edge_tags(SurfaceMesh::next(c)) & feature_tags) || (mesh.edge_tags(SurfaceMesh::prev(c)) & feature_tags))
+      return Constraint::OnFeature;
+  return Constraint::Free;
+}
+
+std::vector<Location> project_vertices(const SurfaceMesh& mesh, Locator& locator, std::vector<Hint>& hints,
+                                       bool use_constraints, PropagationStats* stats) {
+  const int nv = mesh.vertex_capacity();
+  if (static_cast<int>(hints.size()) < nv) hints.resize(static_cast<std::size_t>(nv));
+  std::vector<Location> out(static_cast<std::size_t>(nv));
+  std::vector<int> from(static_cast<std::size_t>(nv), -2);  // -2 unseen, -1 seed, else the vertex that reached it
+  PropagationStats st;
+  std::deque<int> queue;
+  const LocateOptions& o = locator.options();
+  for (int s = 0; s < nv; ++s) {
+    if (mesh.is_deleted(Vertex(s)) || from[s] != -2) continue;
+    from[s] = -1;
+    ++st.seeds;
+    queue.push_back(s);
+    while (!queue.empty()) {
+      const int v = queue.front();
+      queue.pop_front();
+      const Vertex vh(v);
+      const Hint own = hints[v];
+      const Hint start[2] = {own, from[v] >= 0 ? out[from[v]].hint() : Hint{}};
+      const Constraint c = use_constraints ? vertex_constraint(mesh, vh, o.feature_tags, o.corner_tags) : Constraint::Free;
+      out[v] = locator.project(mesh.position(vh), std::span<const Hint>(start, 2), c);
+      hints[v] = out[v].hint();
+      ++st.projected;
+      st.steps += out[v].steps;
+      if (out[v].used_fallback) ++st.fallbacks;
+      if (mesh.is_isolated(vh)) continue;
+      for (Corner k : mesh.fan(vh)) {
+        for (Vertex w : {mesh.vertex(SurfaceMesh::next(k)), mesh.vertex(SurfaceMesh::prev(k))}) {
+          if (from[w.idx] != -2) continue;
+          from[w.idx] = v;
+          queue.push_back(w.idx);
+        }
+      }
+    }
+  }
+  if (stats) *stats = st;
+  return out;
+}
+
+}  // namespace anisurf
