@@ -12,6 +12,7 @@ Command info_command();
 Command convert_command();
 Command quality_command();
 Command metric_command();
+Command reconstruct_command();
 
 std::vector<Command> engine_commands() {
   std::vector<Command> list;
@@ -19,6 +20,7 @@ std::vector<Command> engine_commands() {
   list.push_back(convert_command());
   list.push_back(metric_command());
   list.push_back(quality_command());
+  list.push_back(reconstruct_command());
   return list;
 }
 

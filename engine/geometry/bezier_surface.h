@@ -1,0 +1,88 @@
+// The smooth surface of report section 3 ("C.A.D. reconstruction"): Farin's
+// G1 Bezier surface over the mesh, generalized to feature curves.
+//
+// Per triangle:
+//  1. a cubic patch from the vertex tangent planes: the edge control points
+//     lie in the tangent plane of their vertex (proposition 1: G1 at the
+//     vertices); along a feature curve they come from the curve tangents and
+//     are shared by both sides (so positions agree exactly);
+//  2. the centre control point by the report's formula (quadratic precision);
+//  3. the Clough-Tocher split at the barycentre into three cubic subpatches
+//     and their degree elevation to quartics: 31 control points;
+//  4. G1 corrections across every interior non-feature edge: the two rows of
+//     control points next to the edge are set so that both cross-boundary
+//     derivatives lie in span{W(t), Gamma'(t)}, W linear in the common
+//     tangent planes of the end vertices (the conditions of proposition 2,
+//     eq. 11-13, with a linear combination instead of a constant alpha, since
+//     eq. 14 does not hold for arbitrary tangent planes), then the inner
+//     control points of the split are recomputed from the Clough-Tocher C1
+//     conditions so that each macro patch stays C1 inside.
+// Across feature edges the surface is C0, each side with its own tangent
+// plane.
+#pragma once
+#include <array>
+#include <vector>
+
+#include "geometry/normals.h"
+#include "mesh/surface_mesh.h"
+
+namespace anisurf {
+
+// Barycentric coordinates with respect to the triangle's vertices 0, 1, 2.
+using Bary = std::array<double, 3>;
+
+struct BezierOptions {
+  // Length of the edge control points' offset from their vertex, along the
+  // projection of the edge onto the vertex's tangent plane (or along the
+  // curve tangent on features):
+  //  Projection: the projection of the 1/3 point (|e| cos(phi) / 3);
+  //  Circular: |e| / (3 cos^2(phi/2)), exact for circular arcs (phi: angle of
+  //  the edge with the tangent plane or the curve tangent).
+  enum class Handle { Projection, Circular };
+  Handle handle = Handle::Circular;
+  // false: no G1 corrections (the plain cubic patch, only G1 at vertices).
+  bool g1_corrections = true;
+  // Weight of the corrections of a subpatch's row next to the macro edge that
+  // also moves its free inner control point (0: only the C1 conditions).
+  double inner_correction_weight = 0.5;
+};
+
+// Position, first derivatives and unit normal at a point of a triangle.
+struct SurfacePoint {
+  Vec3 position;
+  // Derivatives along the parameter directions v1 - v0 (d1) and v2 - v0 (d2),
+  // i.e. with respect to barycentric coordinates 1 and 2 (coordinate 0 being
+  // 1 - b1 - b2).
+  Vec3 d1, d2;
+  Vec3 normal;  // unit, d1 x d2 normalized (oriented like the triangle)
+};
+
+class BezierSurface {
+ public:
+  static constexpr int kControlPoints = 31;
+  using Patch = std::array<Vec3, kControlPoints>;
+
+  BezierSurface() = default;
+  // Builds the surface over `mesh` (features tagged, frames computed on the
+  // same mesh). The surface keeps no reference to the mesh.
+  BezierSurface(const SurfaceMesh& mesh, const SurfaceFrames& frames, const BezierOptions& options = {});
+
+  // Point of triangle t at barycentric coordinates b (pre: b sums to 1; values
+  // outside [0,1] extrapolate the subpatch that contains them).
+  Vec3 position(Triangle t, const Bary& b) const;
+  SurfacePoint evaluate(Triangle t, const Bary& b) const;
+
+  // The 31 control points of triangle t. Layout: 0-2 the vertices, 3 the
+  // centre, 4 + 3k + m the quartic points of the edge opposite vertex k (from
+  // vertex k+1), 13 + 3j + m the points of the inner edge from vertex j to the
+  // centre, 22 + 2k + {0,1} and 28 + k the inner points of subtriangle k
+  // (vertices k+1, k+2, centre).
+  const Patch& patch(Triangle t) const { return patches_[t.idx]; }
+  // Number of triangle slots covered (the mesh's triangle capacity).
+  int size() const { return static_cast<int>(patches_.size()); }
+
+ private:
+  std::vector<Patch> patches_;
+};
+
+}  // namespace anisurf

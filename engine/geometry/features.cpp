@@ -1,0 +1,139 @@
+#include "geometry/features.h"
+
+#include <cmath>
+#include <numbers>
+
+#include "core/error.h"
+
+namespace anisurf {
+
+namespace {
+
+void check_vertex(const SurfaceMesh& mesh, int v, const char* what) {
+  if (v < 0 || v >= mesh.vertex_capacity() || mesh.is_deleted(Vertex(v)) || mesh.is_isolated(Vertex(v)))
+    throw Error(std::string("features: ") + what + " names vertex " + std::to_string(v) +
+                ", which is not a vertex of a triangle (0-based ids, " + std::to_string(mesh.n_vertices()) +
+                " vertices)");
+}
+
+Corner edge_of(const SurfaceMesh& mesh, const std::array<int, 2>& e, const char* what) {
+  check_vertex(mesh, e[0], what);
+  check_vertex(mesh, e[1], what);
+  Corner c = mesh.find_edge(Vertex(e[0]), Vertex(e[1]));
+  if (!c.is_valid()) c = mesh.find_edge(Vertex(e[1]), Vertex(e[0]));
+  if (!c.is_valid())
+    throw Error(std::string("features: ") + what + " names " + std::to_string(e[0]) + "-" + std::to_string(e[1]) +
+                ", which is not an edge of the mesh");
+  return c;
+}
+
+// Angle in radians between two unit-or-zero vectors (0 if one is zero).
+double angle_between(const Vec3& a, const Vec3& b) {
+  const double na = norm(a), nb = norm(b);
+  if (!(na > 0) || !(nb > 0)) return 0;
+  return std::atan2(norm(cross(a, b)), dot(a, b));
+}
+
+}  // namespace
+
+std::vector<FeatureEdgeAt> feature_edges_at(const SurfaceMesh& mesh, Vertex v) {
+  std::vector<FeatureEdgeAt> out;
+  const std::vector<Corner> fan = mesh.fan(v);
+  if (fan.empty()) return out;
+  if (mesh.is_boundary(v)) {
+    // The fan starts at its most clockwise corner: the edge v -> next is open.
+    const Corner first = SurfaceMesh::prev(fan.front());
+    out.push_back({first, mesh.vertex(SurfaceMesh::next(fan.front()))});
+  }
+  for (Corner c : fan) {
+    // Edge between c's triangle and the next one counter-clockwise: prev(c) -> v.
+    const Corner e = SurfaceMesh::next(c);
+    if (is_feature_edge(mesh, e)) out.push_back({e, mesh.vertex(SurfaceMesh::prev(c))});
+  }
+  return out;
+}
+
+FeatureReport detect_features(SurfaceMesh& mesh, const FeatureOptions& options) {
+  FeatureReport rep;
+  mesh.update_boundary_tags();
+  const double ridge_angle = options.ridge_angle_deg * std::numbers::pi / 180.0;
+  const double corner_angle = options.corner_angle_deg * std::numbers::pi / 180.0;
+
+  // 1. edges: file tags, dihedral angle, reference interfaces
+  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
+    const Triangle tri(t);
+    if (mesh.is_deleted(tri)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Corner c = SurfaceMesh::corner(tri, k);
+      const Corner o = mesh.opposite(c);
+      if (o.is_valid() && o < c) continue;  // each edge once
+      if (!options.keep_file_tags && mesh.has_tag(c, kRidge)) mesh.remove_edge_tag(c, kRidge);
+      if (!o.is_valid()) continue;
+      if (mesh.has_tag(c, kRidge)) continue;
+      const Triangle other = SurfaceMesh::triangle(o);
+      if (options.reference_interfaces && mesh.triangle_ref(tri) != mesh.triangle_ref(other)) {
+        mesh.add_edge_tag(c, kRidge);
+        ++rep.interface_edges;
+        continue;
+      }
+      if (options.detect_ridges &&
+          angle_between(mesh.triangle_normal(tri), mesh.triangle_normal(other)) > ridge_angle) {
+        mesh.add_edge_tag(c, kRidge);
+        ++rep.detected_ridges;
+      }
+    }
+  }
+  // 2. user edits on edges
+  for (const auto& e : options.add_ridges) mesh.add_edge_tag(edge_of(mesh, e, "add_ridges"), kRidge);
+  for (const auto& e : options.remove_ridges) mesh.remove_edge_tag(edge_of(mesh, e, "remove_ridges"), kRidge);
+
+  // 3. vertices: kRidge on ridge vertices, corners
+  for (int v = 0; v < mesh.vertex_capacity(); ++v) {
+    const Vertex vh(v);
+    if (mesh.is_deleted(vh)) continue;
+    mesh.remove_vertex_tag(vh, kRidge);
+    if (!options.keep_file_tags) mesh.remove_vertex_tag(vh, kCorner);
+    if (mesh.is_isolated(vh)) continue;
+    const auto fe = feature_edges_at(mesh, vh);
+    bool on_ridge = false;
+    for (const auto& f : fe) on_ridge = on_ridge || mesh.has_tag(f.edge, kRidge);
+    if (on_ridge) mesh.add_vertex_tag(vh, kRidge);
+    if (fe.empty()) continue;
+    bool corner = fe.size() != 2;
+    if (!corner) {
+      const Vec3& p = mesh.position(vh);
+      // turning angle: pi minus the angle between the two edges at v
+      const double turn = std::numbers::pi - angle_between(mesh.position(fe[0].other) - p, mesh.position(fe[1].other) - p);
+      corner = turn > corner_angle;
+    }
+    if (corner) mesh.add_vertex_tag(vh, kCorner);
+  }
+  for (int v : options.add_corners) {
+    check_vertex(mesh, v, "add_corners");
+    mesh.add_vertex_tag(Vertex(v), kCorner);
+  }
+  for (int v : options.remove_corners) {
+    check_vertex(mesh, v, "remove_corners");
+    mesh.remove_vertex_tag(Vertex(v), kCorner);
+  }
+
+  // 4. counts
+  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
+    if (mesh.is_deleted(Triangle(t))) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Corner c = SurfaceMesh::corner(Triangle(t), k);
+      if (mesh.canonical(c) != c) continue;
+      if (mesh.is_boundary_edge(c)) ++rep.boundary_edges;
+      if (is_feature_edge(mesh, c)) ++rep.feature_edges;
+    }
+  }
+  for (int v = 0; v < mesh.vertex_capacity(); ++v) {
+    const Vertex vh(v);
+    if (mesh.is_deleted(vh) || mesh.is_isolated(vh)) continue;
+    if (mesh.has_tag(vh, kCorner)) ++rep.corners;
+    if (!feature_edges_at(mesh, vh).empty()) ++rep.feature_vertices;
+  }
+  return rep;
+}
+
+}  // namespace anisurf

@@ -1,0 +1,67 @@
+// Feature curves of a surface mesh: sharp edges (dihedral angle), open
+// boundaries, interfaces between triangle references, and corners where
+// feature curves meet or turn sharply. The reconstructed surface (report
+// section 3, the "generalized Farin algorithm" for surfaces with sharp edges)
+// is G1 across every other edge and only C0 along these curves.
+#pragma once
+#include <array>
+#include <string>
+#include <vector>
+
+#include "mesh/surface_mesh.h"
+
+namespace anisurf {
+
+struct FeatureOptions {
+  // Ridges: an interior edge whose two triangle normals differ by more than
+  // ridge_angle_deg is tagged kRidge (Mmg's -ar, default 45 degrees).
+  // detect_ridges = false is Mmg's -nr: no detection, file tags kept.
+  bool detect_ridges = true;
+  double ridge_angle_deg = 45.0;
+  // Edges between triangles of different references (subdomain interfaces)
+  // are feature curves too: they are tagged kRidge.
+  bool reference_interfaces = true;
+  // A vertex on exactly two feature edges is a corner when the curve turns by
+  // more than corner_angle_deg there (0 = straight on). A vertex on one, or
+  // on three or more, feature edges is always a corner.
+  double corner_angle_deg = 45.0;
+  // Keep the tags read from the file (Ridges, Corners). false clears every
+  // kRidge and kCorner first (boundaries are always features).
+  bool keep_file_tags = true;
+  // User edits, applied last, by 0-based vertex ids: an edge is named by its
+  // two end vertices. Removing a ridge never removes a boundary.
+  std::vector<std::array<int, 2>> add_ridges, remove_ridges;
+  std::vector<int> add_corners, remove_corners;
+};
+
+struct FeatureReport {
+  int detected_ridges = 0;     // newly tagged by the dihedral angle
+  int interface_edges = 0;     // newly tagged as reference interfaces
+  int boundary_edges = 0;
+  int feature_edges = 0;       // every edge a feature curve runs along
+  int feature_vertices = 0;    // vertices on at least one feature edge
+  int corners = 0;             // vertices tagged kCorner in the end
+};
+
+// True if the edge opposite c is a feature curve: open boundary, cut
+// non-manifold edge, or tagged kRidge.
+inline bool is_feature_edge(const SurfaceMesh& mesh, Corner c) {
+  return mesh.is_boundary_edge(c) || (mesh.edge_tags(c) & (kRidge | kBoundary | kNonManifold)) != 0;
+}
+
+// Feature edges incident to v: for each, a corner whose opposite edge it is
+// (inside v's fan) and the other end vertex.
+struct FeatureEdgeAt {
+  Corner edge;
+  Vertex other;
+};
+std::vector<FeatureEdgeAt> feature_edges_at(const SurfaceMesh& mesh, Vertex v);
+
+// Tags the features of `mesh` in place: kRidge on ridge and interface edges,
+// kBoundary refreshed from the connectivity, kRidge on every vertex of a
+// kRidge edge, kCorner on corners; then applies the user's edits. Throws
+// Error naming the ids when an edit names a vertex or an edge that does not
+// exist. Idempotent for the same options.
+FeatureReport detect_features(SurfaceMesh& mesh, const FeatureOptions& options = {});
+
+}  // namespace anisurf

@@ -1,0 +1,414 @@
+#include "geometry/normals.h"
+
+#include <Eigen/Dense>
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/Sparse>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "geometry/features.h"
+
+namespace anisurf {
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// Orthonormal (t1, t2) with t1 x t2 = n for a unit n.
+void frame_of(const Vec3& n, Vec3& t1, Vec3& t2) {
+  const Vec3 a = std::fabs(n.x) < 0.6 ? Vec3(1, 0, 0) : (std::fabs(n.y) < 0.6 ? Vec3(0, 1, 0) : Vec3(0, 0, 1));
+  t1 = normalized(cross(a, n));
+  t2 = cross(n, t1);
+}
+
+double corner_angle(const SurfaceMesh& mesh, Corner c) {
+  const Vec3& p = mesh.position(mesh.vertex(c));
+  const Vec3 a = mesh.position(mesh.vertex(SurfaceMesh::next(c))) - p;
+  const Vec3 b = mesh.position(mesh.vertex(SurfaceMesh::prev(c))) - p;
+  return std::atan2(norm(cross(a, b)), dot(a, b));
+}
+
+// Sectors of v's fan: runs of consecutive (counter-clockwise) corners between
+// feature edges.
+std::vector<std::vector<Corner>> sectors_of(const SurfaceMesh& mesh, Vertex v) {
+  std::vector<std::vector<Corner>> out;
+  const std::vector<Corner> fan = mesh.fan(v);
+  if (fan.empty()) return out;
+  const int n = static_cast<int>(fan.size());
+  // Edge between fan[i] and fan[i+1] is opposite next(fan[i]).
+  auto cut_after = [&](int i) { return is_feature_edge(mesh, SurfaceMesh::next(fan[i])); };
+  int start = 0;
+  if (!mesh.is_boundary(v)) {
+    start = -1;
+    for (int i = 0; i < n; ++i)
+      if (cut_after(i)) {
+        start = (i + 1) % n;
+        break;
+      }
+    if (start < 0) {
+      out.push_back(fan);
+      return out;
+    }
+  }
+  out.emplace_back();
+  for (int k = 0; k < n; ++k) {
+    const int i = (start + k) % n;
+    out.back().push_back(fan[i]);
+    if (k + 1 < n && cut_after(i)) out.emplace_back();
+  }
+  return out;
+}
+
+// Least-squares height-function fit; returns false when ill-posed.
+class LocalFit {
+ public:
+  explicit LocalFit(const SurfaceMesh& mesh)
+      : mesh_(mesh), tri_mark_(mesh.triangle_capacity(), 0), vert_mark_(mesh.vertex_capacity(), 0) {}
+
+  // Points of the sector's neighbourhood (relative to the vertex).
+  const std::vector<Vec3>& gather(Vertex v, const std::vector<Corner>& sector) {
+    points_.clear();
+    tris_.clear();
+    ring1_.clear();
+    // ring 1: vertices of the sector's triangles
+    for (Corner c : sector) visit_tri(SurfaceMesh::triangle(c));
+    for (Triangle t : tris_)
+      for (int k = 0; k < 3; ++k) mark_vertex(mesh_.vertex(t, k), v, &ring1_);
+    // ring 2: triangles around ring-1 vertices reached without crossing a
+    // feature edge (a flood over their fans from the sector)
+    std::size_t head = 0;
+    while (head < tris_.size()) {
+      const Triangle t = tris_[head++];
+      for (int k = 0; k < 3; ++k) {
+        const Corner c = SurfaceMesh::corner(t, k);
+        if (is_feature_edge(mesh_, c)) continue;
+        const Triangle n = SurfaceMesh::triangle(mesh_.opposite(c));
+        if (tri_mark_[n.idx]) continue;
+        bool near = false;
+        for (int j = 0; j < 3 && !near; ++j) {
+          const Vertex w = mesh_.vertex(n, j);
+          near = w == v || ring1_mark(w);
+        }
+        if (near) visit_tri(n);
+      }
+    }
+    for (Triangle t : tris_)
+      for (int k = 0; k < 3; ++k) mark_vertex(mesh_.vertex(t, k), v, nullptr);
+    // reset marks
+    for (Triangle t : tris_) tri_mark_[t.idx] = 0;
+    for (Vertex w : verts_) vert_mark_[w.idx] = 0;
+    verts_.clear();
+    return points_;
+  }
+
+  // Normal of the height function fitted in the frame of n0 through the
+  // origin, or zero if ill-posed.
+  static Vec3 fit(const std::vector<Vec3>& pts, const Vec3& n0, int degree) {
+    const int m = static_cast<int>(pts.size());
+    const int k = degree == 3 ? 9 : 5;
+    if (m < k) return {};
+    Vec3 t1, t2;
+    frame_of(n0, t1, t2);
+    double h = 0;
+    for (const Vec3& p : pts) h += norm(p);
+    h /= m;
+    if (!(h > 0)) return {};
+    Eigen::MatrixXd A(m, k);
+    Eigen::VectorXd z(m);
+    for (int i = 0; i < m; ++i) {
+      const double x = dot(pts[i], t1) / h, y = dot(pts[i], t2) / h;
+      z(i) = dot(pts[i], n0) / h;
+      A(i, 0) = x;
+      A(i, 1) = y;
+      A(i, 2) = x * x;
+      A(i, 3) = x * y;
+      A(i, 4) = y * y;
+      if (k == 9) {
+        A(i, 5) = x * x * x;
+        A(i, 6) = x * x * y;
+        A(i, 7) = x * y * y;
+        A(i, 8) = y * y * y;
+      }
+    }
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
+    qr.setThreshold(1e-8);
+    if (qr.rank() < k) return {};
+    const Eigen::VectorXd c = qr.solve(z);
+    // z = c0 x + c1 y + ... : the normal is (-c0, -c1, 1) in the frame
+    return normalized(n0 - c(0) * t1 - c(1) * t2);
+  }
+
+ private:
+  void visit_tri(Triangle t) {
+    if (tri_mark_[t.idx]) return;
+    tri_mark_[t.idx] = 1;
+    tris_.push_back(t);
+  }
+  bool ring1_mark(Vertex w) const { return (vert_mark_[w.idx] & 2) != 0; }
+  void mark_vertex(Vertex w, Vertex center, std::vector<Vertex>* ring1) {
+    if (w == center) return;
+    if (ring1) {
+      if (vert_mark_[w.idx] & 2) return;
+      if (!vert_mark_[w.idx]) verts_.push_back(w);
+      vert_mark_[w.idx] |= 2;
+      ring1->push_back(w);
+      return;
+    }
+    if (vert_mark_[w.idx] & 1) return;
+    if (!vert_mark_[w.idx]) verts_.push_back(w);
+    vert_mark_[w.idx] |= 1;
+    points_.push_back(mesh_.position(w) - mesh_.position(center));
+  }
+
+  const SurfaceMesh& mesh_;
+  std::vector<char> tri_mark_, vert_mark_;
+  std::vector<Triangle> tris_;
+  std::vector<Vertex> ring1_, verts_;
+  std::vector<Vec3> points_;
+};
+
+double angle_of(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
+
+}  // namespace
+
+Vec3 circle_tangent(const Vec3& a, const Vec3& v, const Vec3& b) {
+  // With e1 = v - a, e2 = b - v: t ~ |e2|/|e1| e1 + |e1|/|e2| e2 (the
+  // tangent makes the inscribed angles with both chords).
+  const Vec3 e1 = v - a, e2 = b - v;
+  const double l1 = norm(e1), l2 = norm(e2);
+  if (!(l1 > 0) || !(l2 > 0)) return normalized(b - a);
+  return normalized(e1 * (l2 / l1) + e2 * (l1 / l2));
+}
+
+SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& options) {
+  SurfaceFrames f;
+  const int nc = 3 * mesh.triangle_capacity();
+  f.corner_normal_.assign(nc, Vec3());
+  f.corner_sector_.assign(nc, -1);
+  f.tangent_.assign(2 * static_cast<std::size_t>(nc), Vec3());
+
+  // 1. feature-curve tangents. Regular curve vertices (exactly two feature
+  // edges, not corners) get the circle tangent through their two curve
+  // neighbours; an end at a corner reflects the tangent of the other end
+  // about the chord (the same circle arc), or takes the chord itself.
+  std::vector<Vec3> line(mesh.vertex_capacity());
+  std::vector<char> regular(mesh.vertex_capacity(), 0);
+  for (int v = 0; v < mesh.vertex_capacity(); ++v) {
+    const Vertex vh(v);
+    if (mesh.is_deleted(vh) || mesh.is_isolated(vh) || mesh.has_tag(vh, kCorner)) continue;
+    const auto fe = feature_edges_at(mesh, vh);
+    if (fe.size() != 2) continue;
+    regular[v] = 1;
+    line[v] = circle_tangent(mesh.position(fe[0].other), mesh.position(vh), mesh.position(fe[1].other));
+  }
+  auto end_tangent = [&](Vertex a, Vertex b) {
+    const Vec3 chord = normalized(mesh.position(b) - mesh.position(a));
+    if (regular[a.idx]) return dot(line[a.idx], chord) >= 0 ? line[a.idx] : -line[a.idx];
+    if (regular[b.idx]) {
+      const Vec3 tb = dot(line[b.idx], chord) >= 0 ? line[b.idx] : -line[b.idx];
+      return normalized(2.0 * dot(tb, chord) * chord - tb);
+    }
+    return chord;
+  };
+  for (int c = 0; c < nc; ++c) {
+    const Corner e(c);
+    if (mesh.is_deleted(SurfaceMesh::triangle(e)) || !is_feature_edge(mesh, e)) continue;
+    const Vertex a = mesh.edge_from(e), b = mesh.edge_to(e);
+    const Corner o = mesh.opposite(e);
+    if (o.is_valid() && o < e) {
+      // the same curve seen from the other side: reuse it (exactly equal)
+      f.tangent_[2 * c] = f.tangent_[2 * o.idx + 1];
+      f.tangent_[2 * c + 1] = f.tangent_[2 * o.idx];
+      continue;
+    }
+    f.tangent_[2 * c] = end_tangent(a, b);
+    f.tangent_[2 * c + 1] = end_tangent(b, a);
+  }
+
+  // 2. sector normals
+  auto file_normal = mesh.get_vertex_property<Vec3>("normal");
+  auto has_file_normal = mesh.get_vertex_property<std::uint8_t>("has_normal");
+  const bool file_normals = options.use_file_normals && file_normal && has_file_normal;
+  const double max_dev = options.max_fit_deviation_deg * kDeg;
+  const double corner_sin = std::sin(options.corner_plane_min_angle_deg * kDeg);
+  LocalFit fitter(mesh);
+  // sectors whose normal may still turn about a curve tangent
+  std::vector<int> movable;
+  std::vector<Vec3> axis, estimate;
+  std::vector<std::vector<Corner>> members;
+
+  for (int v = 0; v < mesh.vertex_capacity(); ++v) {
+    const Vertex vh(v);
+    if (mesh.is_deleted(vh) || mesh.is_isolated(vh)) continue;
+    const auto sectors = sectors_of(mesh, vh);
+    for (const auto& sector : sectors) {
+      // angle-weighted normal
+      Vec3 n;
+      for (Corner c : sector) n += corner_angle(mesh, c) * normalized(mesh.triangle_normal(SurfaceMesh::triangle(c)));
+      n = normalized(n);
+      bool done = false;
+      if (file_normals && sectors.size() == 1 && has_file_normal[vh] && norm(file_normal[vh]) > 0) {
+        Vec3 fn = normalized(file_normal[vh]);
+        n = dot(fn, n) >= 0 ? fn : -fn;
+        ++f.from_file;
+        done = true;
+      }
+      if (!done && options.method == NormalOptions::Method::LocalFit && norm(n) > 0) {
+        const std::vector<Vec3>& pts = fitter.gather(vh, sector);
+        const int degree = (options.cubic_min_points > 0 && static_cast<int>(pts.size()) >= options.cubic_min_points) ? 3 : 2;
+        Vec3 fit = n;
+        for (int it = 0; it <= options.fit_iterations; ++it) {
+          const Vec3 next = LocalFit::fit(pts, fit, degree);
+          if (norm(next) == 0) {
+            fit = Vec3();
+            break;
+          }
+          fit = next;
+        }
+        if (norm(fit) > 0 && angle_of(fit, n) < max_dev) {
+          n = fit;
+          ++f.fitted;
+          done = true;
+        }
+      }
+      if (!done) ++f.angle_weighted;
+      // constraints from the bounding feature curves
+      Vec3 free_axis;  // a curve tangent line the normal may still turn about
+      bool fixed = false;  // fixed by two curve tangents
+      const Corner first_edge = SurfaceMesh::prev(sector.front());  // v -> next(front)
+      const Corner last_edge = SurfaceMesh::next(sector.back());    // prev(back) -> v
+      if (is_feature_edge(mesh, first_edge) || is_feature_edge(mesh, last_edge)) {
+        // tangents at v pointing along each bounding edge
+        const Vec3 ta = f.tangent_[2 * first_edge.idx];      // v is edge_from(first_edge)
+        const Vec3 tb = f.tangent_[2 * last_edge.idx + 1];   // v is edge_to(last_edge)
+        const Vec3 cr = cross(ta, tb);
+        Vec3 m;
+        if (norm(cr) > corner_sin) {
+          m = normalized(cr);
+          if (dot(m, n) < 0) m = -m;
+          fixed = true;
+        } else {
+          const Vec3 l = normalized(dot(ta, tb) < 0 ? ta - tb : ta + tb);
+          m = normalized(n - dot(n, l) * l);
+          free_axis = l;
+        }
+        if (norm(m) > 0) {
+          n = m;
+          ++f.constrained;
+        }
+      }
+      const int s = static_cast<int>(f.sector_normal_.size());
+      if (!fixed) {
+        movable.push_back(s);
+        axis.push_back(free_axis);
+        estimate.push_back(n);
+        members.push_back(sector);
+      }
+      f.sector_normal_.push_back(n);
+      f.sector_vertex_.push_back(vh);
+      for (Corner c : sector) {
+        f.corner_normal_[c.idx] = n;
+        f.corner_sector_[c.idx] = s;
+      }
+    }
+  }
+  // 3. consistency: turn the sector normals (about the curve tangent on a
+  // feature curve, freely elsewhere, not at all where two curve tangents fix
+  // them) so that every edge (v, w) of every triangle makes the same angle
+  // with the tangent planes at v and w: (n_v + n_w) . (w - v) = 0, which holds
+  // exactly on planes, spheres and cylinders and to third order in the edge
+  // length on any smooth surface. A global linear least-squares problem in
+  // the tangent offsets, with a pull of weight mirror_anchor towards the
+  // estimate; a few Gauss-Newton steps. It mostly corrects one-sided
+  // (boundary) neighbourhoods, where fits are biased.
+  if (options.mirror_iterations > 0 && !movable.empty()) {
+    const int ns = f.n_sectors();
+    std::vector<int> first_unknown(ns, -1), n_unknowns(ns, 0);
+    std::vector<Vec3> b1(ns), b2(ns);
+    int nu = 0;
+    for (std::size_t i = 0; i < movable.size(); ++i) {
+      const int s = movable[i];
+      first_unknown[s] = nu;
+      n_unknowns[s] = norm(axis[i]) > 0 ? 1 : 2;
+      nu += n_unknowns[s];
+    }
+    for (int it = 0; it < options.mirror_iterations; ++it) {
+      for (std::size_t i = 0; i < movable.size(); ++i) {
+        const int s = movable[i];
+        if (n_unknowns[s] == 1) {
+          b1[s] = normalized(cross(axis[i], f.sector_normal_[s]));
+          b2[s] = Vec3();
+        } else {
+          frame_of(f.sector_normal_[s], b1[s], b2[s]);
+        }
+      }
+      std::vector<Eigen::Triplet<double>> trip;
+      Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nu);
+      std::vector<double> scale(ns, 0.0);
+      for (int t = 0; t < mesh.triangle_capacity(); ++t) {
+        if (mesh.is_deleted(Triangle(t))) continue;
+        for (int q = 0; q < 3; ++q) {
+          const Corner cv = SurfaceMesh::corner(Triangle(t), q), cw = SurfaceMesh::next(cv);
+          const Vec3 e = mesh.position(mesh.vertex(cw)) - mesh.position(mesh.vertex(cv));
+          const double l2 = norm2(e);
+          if (!(l2 > 0)) continue;
+          const double wt = 1.0 / (l2 * l2);
+          const int sv = f.corner_sector_[cv.idx], sw = f.corner_sector_[cw.idx];
+          const double r = dot(f.sector_normal_[sv] + f.sector_normal_[sw], e);
+          // residual r + sum_k J_k x_k
+          int idx[4];
+          double J[4];
+          int m = 0;
+          for (int s : {sv, sw}) {
+            if (first_unknown[s] < 0) continue;
+            idx[m] = first_unknown[s];
+            J[m++] = dot(b1[s], e);
+            if (n_unknowns[s] == 2) {
+              idx[m] = first_unknown[s] + 1;
+              J[m++] = dot(b2[s], e);
+            }
+            scale[s] += wt * l2;
+          }
+          for (int a = 0; a < m; ++a) {
+            rhs(idx[a]) -= wt * J[a] * r;
+            for (int b = 0; b < m; ++b) trip.emplace_back(idx[a], idx[b], wt * J[a] * J[b]);
+          }
+        }
+      }
+      for (std::size_t i = 0; i < movable.size(); ++i) {
+        const int s = movable[i];
+        const double mu = options.mirror_anchor * scale[s];
+        if (!(mu > 0)) continue;
+        const Vec3 d = estimate[i] - f.sector_normal_[s];
+        trip.emplace_back(first_unknown[s], first_unknown[s], mu);
+        rhs(first_unknown[s]) += mu * dot(d, b1[s]);
+        if (n_unknowns[s] == 2) {
+          trip.emplace_back(first_unknown[s] + 1, first_unknown[s] + 1, mu);
+          rhs(first_unknown[s] + 1) += mu * dot(d, b2[s]);
+        }
+      }
+      Eigen::SparseMatrix<double> A(nu, nu);
+      A.setFromTriplets(trip.begin(), trip.end());
+      Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
+      cg.setTolerance(1e-10);
+      cg.setMaxIterations(2000);
+      cg.compute(A);
+      if (cg.info() != Eigen::Success) break;
+      const Eigen::VectorXd x = cg.solve(rhs);
+      if (!x.allFinite()) break;
+      for (std::size_t i = 0; i < movable.size(); ++i) {
+        const int s = movable[i];
+        const int u = first_unknown[s];
+        const double x1 = std::clamp(x(u), -0.5, 0.5);
+        const double x2 = n_unknowns[s] == 2 ? std::clamp(x(u + 1), -0.5, 0.5) : 0.0;
+        f.sector_normal_[s] = normalized(f.sector_normal_[s] + x1 * b1[s] + x2 * b2[s]);
+      }
+    }
+    for (int c = 0; c < nc; ++c)
+      if (f.corner_sector_[c] >= 0) f.corner_normal_[c] = f.sector_normal_[f.corner_sector_[c]];
+  }
+  return f;
+}
+
+}  // namespace anisurf

@@ -1,0 +1,91 @@
+// Tangent planes of the surface at the mesh vertices, one per smooth sector
+// (the triangles around a vertex between two feature edges; a vertex off the
+// features has one sector, a ridge vertex one per side), and the tangents of
+// the feature curves. These are the data of the report's section 3 ("surface
+// tangent planes at the vertices are supposed to be known"): they decide most
+// of the reconstruction error on coarse meshes.
+#pragma once
+#include <vector>
+
+#include "mesh/surface_mesh.h"
+
+namespace anisurf {
+
+struct NormalOptions {
+  enum class Method {
+    AngleWeighted,  // sum of the sector's unit triangle normals weighted by their angle at the vertex
+    LocalFit,       // height function fitted over the sector's 2-ring (see below)
+  };
+  Method method = Method::LocalFit;
+  // LocalFit: least-squares height function z(x, y) through the vertex, in the
+  // frame of the angle-weighted normal, on the vertices of the triangles
+  // within two rings of the vertex reached without crossing a feature edge;
+  // refitted `fit_iterations` times in the frame of the fitted normal (which
+  // removes the bias of a tilted first frame, e.g. on boundaries). Degree 2
+  // (a quadric), or degree 3 when the neighbourhood has at least
+  // `cubic_min_points` points (0: never).
+  int fit_iterations = 2;
+  int cubic_min_points = 0;
+  // Fall back to the angle-weighted normal when the fit is ill-posed (fewer
+  // than 5 usable points, rank deficient) or turns the normal by more than
+  // this angle.
+  double max_fit_deviation_deg = 30.0;
+  // Consistency after the estimate: the sector normals are turned (about the
+  // curve tangent on a feature curve) so that every mesh edge makes equal
+  // angles with the tangent planes at both ends, as on planes, spheres and
+  // cylinders (a global least-squares problem, `mirror_iterations`
+  // Gauss-Newton steps, 0: off); `mirror_anchor` weighs a pull back towards
+  // the estimate. This mostly fixes one-sided neighbourhoods (boundaries),
+  // where fits are biased.
+  int mirror_iterations = 2;
+  double mirror_anchor = 1e-3;
+  // Use the file's NormalAtVertices (vertex properties "normal"/"has_normal")
+  // at vertices with a single sector.
+  bool use_file_normals = true;
+  // At a corner, a sector's plane is the plane of its two bounding curve
+  // tangents when they make more than this angle (and less than 180 minus it);
+  // otherwise the estimated normal is made orthogonal to their mean line.
+  double corner_plane_min_angle_deg = 10.0;
+};
+
+// Tangent planes per sector and feature-curve tangents, indexed by corner.
+class SurfaceFrames {
+ public:
+  // Unit normal of the tangent plane at vertex(c) on the side of c's triangle.
+  const Vec3& normal(Corner c) const { return corner_normal_[c.idx]; }
+  // Sector of c (corners of the same vertex between the same feature edges
+  // share it); -1 for a deleted triangle.
+  int sector(Corner c) const { return corner_sector_[c.idx]; }
+  int n_sectors() const { return static_cast<int>(sector_normal_.size()); }
+  const Vec3& sector_normal(int s) const { return sector_normal_[s]; }
+  Vertex sector_vertex(int s) const { return sector_vertex_[s]; }
+  // For a feature edge (the edge opposite e): unit tangent of its curve at
+  // edge_from(e) pointing along the edge, and at edge_to(e) pointing back
+  // along it. Zero for an edge that is not a feature.
+  const Vec3& tangent_from(Corner e) const { return tangent_[2 * e.idx]; }
+  const Vec3& tangent_to(Corner e) const { return tangent_[2 * e.idx + 1]; }
+  // How each sector normal was obtained (counts over sectors).
+  int fitted = 0, angle_weighted = 0, from_file = 0, constrained = 0;
+
+ private:
+  friend SurfaceFrames compute_frames(const SurfaceMesh&, const NormalOptions&);
+  std::vector<Vec3> corner_normal_;
+  std::vector<int> corner_sector_;
+  std::vector<Vec3> sector_normal_;
+  std::vector<Vertex> sector_vertex_;
+  std::vector<Vec3> tangent_;  // 2 per corner slot
+};
+
+// Computes the frames of `mesh` from its feature tags (run detect_features
+// first). Pre: a valid mesh. Sector normals are oriented like the triangles
+// (counter-clockwise seen from outside) and, at feature vertices, orthogonal
+// to the bounding curve tangents so that the control points around every
+// vertex of a sector are coplanar (report, proposition 1).
+SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& options = {});
+
+// Unit tangent of a feature curve at the middle vertex of three consecutive
+// curve points a, v, b: the tangent at v of the circle through them (exact on
+// circles for any spacing), oriented from a towards b.
+Vec3 circle_tangent(const Vec3& a, const Vec3& v, const Vec3& b);
+
+}  // namespace anisurf

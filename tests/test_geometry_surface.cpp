@@ -1,0 +1,292 @@
+// The G1 Bezier surface (report section 3): planes reproduced, vertices
+// interpolated, G1 across every interior non-feature edge, C0 across
+// features, derivatives, third-order convergence on spheres, the hemisphere
+// error, and the sampled mesh.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "core/error.h"
+#include "geometry/bezier_surface.h"
+#include "geometry/features.h"
+#include "geometry/normals.h"
+#include "geometry/sample.h"
+#include "io/mesh_io.h"
+#include "mesh/stats.h"
+#include "test_geometry_util.h"
+#include "test_util.h"
+
+using namespace anisurf;
+using anisurf::test::angle;
+
+namespace {
+
+struct Built {
+  SurfaceMesh mesh;
+  SurfaceFrames frames;
+  BezierSurface surface;
+};
+
+Built reconstruct(SurfaceMesh mesh, const NormalOptions& no = {}, const BezierOptions& bo = {},
+                  const FeatureOptions& fo = {}) {
+  Built b;
+  b.mesh = std::move(mesh);
+  detect_features(b.mesh, fo);
+  b.frames = compute_frames(b.mesh, no);
+  b.surface = BezierSurface(b.mesh, b.frames, bo);
+  return b;
+}
+
+// Barycentric coordinates of parameter u along the edge opposite corner c
+// (from edge_from(c) at u = 0 to edge_to(c) at u = 1).
+Bary on_edge(Corner c, double u) {
+  const int k = SurfaceMesh::local_index(c);
+  Bary b{0, 0, 0};
+  b[(k + 1) % 3] = 1 - u;
+  b[(k + 2) % 3] = u;
+  return b;
+}
+
+struct EdgeCheck {
+  double max_normal_angle = 0;  // over interior non-feature edges
+  double max_gap = 0;           // position difference, every interior edge
+  double max_ridge_gap = 0;     // position difference on feature edges
+  int smooth_edges = 0, feature_edges = 0;
+};
+
+// Evaluates both sides of every interior edge at `samples` inner points.
+EdgeCheck check_edges(const SurfaceMesh& m, const BezierSurface& s, int samples = 7) {
+  EdgeCheck r;
+  for (int c = 0; c < 3 * m.triangle_capacity(); ++c) {
+    const Corner e(c);
+    if (m.is_deleted(SurfaceMesh::triangle(e))) continue;
+    const Corner o = m.opposite(e);
+    if (!o.is_valid() || o < e) continue;
+    const bool feature = is_feature_edge(m, e);
+    (feature ? r.feature_edges : r.smooth_edges)++;
+    for (int i = 1; i <= samples; ++i) {
+      const double u = double(i) / (samples + 1);
+      const SurfacePoint a = s.evaluate(SurfaceMesh::triangle(e), on_edge(e, u));
+      const SurfacePoint b = s.evaluate(SurfaceMesh::triangle(o), on_edge(o, 1 - u));
+      const double gap = norm(a.position - b.position);
+      r.max_gap = std::fmax(r.max_gap, gap);
+      if (feature) r.max_ridge_gap = std::fmax(r.max_ridge_gap, gap);
+      else r.max_normal_angle = std::fmax(r.max_normal_angle, angle(a.normal, b.normal));
+    }
+  }
+  return r;
+}
+
+double max_vertex_gap(const SurfaceMesh& m, const BezierSurface& s) {
+  double mx = 0;
+  for (int t = 0; t < m.triangle_capacity(); ++t) {
+    if (m.is_deleted(Triangle(t))) continue;
+    for (int k = 0; k < 3; ++k) {
+      Bary b{0, 0, 0};
+      b[k] = 1;
+      mx = std::fmax(mx, norm(s.position(Triangle(t), b) - m.position(m.vertex(Triangle(t), k))));
+    }
+  }
+  return mx;
+}
+
+// A tilted, shifted copy of a grid: the plane n . x = d.
+MeshData tilted_plane(Vec3& n, double& d) {
+  MeshData g = test::square_grid(6);
+  const Vec3 u = normalized(Vec3(1, 0.3, -0.4)), w = normalized(cross(u, Vec3(0.2, 1, 0.5))), v = cross(w, u);
+  for (Vec3& p : g.vertices) {
+    // a jittered grid, so that edges are not parallel
+    const double x = p.x + 0.03 * std::sin(7 * p.y), y = p.y + 0.03 * std::cos(5 * p.x);
+    p = Vec3(0.5, -1, 2) + x * u + y * v;
+  }
+  n = w;
+  d = dot(w, Vec3(0.5, -1, 2));
+  return g;
+}
+
+}  // namespace
+
+TEST_CASE("surface: a plane is reproduced exactly, with and without features, for every option") {
+  Vec3 n;
+  double d;
+  const MeshData g = tilted_plane(n, d);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(0, 1);
+  for (auto handle : {BezierOptions::Handle::Circular, BezierOptions::Handle::Projection})
+    for (bool g1 : {true, false})
+      for (bool ridge : {false, true}) {
+        BezierOptions bo;
+        bo.handle = handle;
+        bo.g1_corrections = g1;
+        FeatureOptions fo;
+        if (ridge) fo.add_ridges = {{8, 16}, {16, 24}};  // an inner polyline
+        const Built b = reconstruct(test::build(g), {}, bo, fo);
+        double off = 0, normal_dev = 0;
+        for (int t = 0; t < b.mesh.triangle_capacity(); ++t)
+          for (int i = 0; i < 20; ++i) {
+            double x = U(rng), y = U(rng);
+            if (x + y > 1) x = 1 - x, y = 1 - y;
+            const SurfacePoint p = b.surface.evaluate(Triangle(t), {1 - x - y, x, y});
+            off = std::fmax(off, std::fabs(dot(p.position, n) - d));
+            normal_dev = std::fmax(normal_dev, norm(p.normal - n));
+          }
+        CHECK(off < 1e-12);
+        CHECK(normal_dev < 1e-9);
+      }
+}
+
+TEST_CASE("surface: the cube is reproduced exactly (flat faces, C0 along its ridges)") {
+  const Built b = reconstruct(test::build(test::cube()));
+  for (int t = 0; t < b.mesh.triangle_capacity(); ++t) {
+    const Vec3 fn = normalized(b.mesh.triangle_normal(Triangle(t)));
+    const double d = dot(fn, b.mesh.position(b.mesh.vertex(Triangle(t), 0)));
+    for (double x : {0.1, 0.3, 0.6})
+      for (double y : {0.05, 0.2, 0.35}) {
+        const SurfacePoint p = b.surface.evaluate(Triangle(t), {1 - x - y, x, y});
+        CHECK(std::fabs(dot(fn, p.position) - d) < 1e-12);
+        CHECK(norm(p.normal - fn) < 1e-9);
+      }
+  }
+  const EdgeCheck ec = check_edges(b.mesh, b.surface);
+  CHECK(ec.feature_edges == 12);
+  CHECK(ec.max_ridge_gap < 1e-12);
+}
+
+TEST_CASE("surface: interpolates the vertices; G1 across interior edges, C0 along the boundary (icosphere, hemi)") {
+  const Built ico = reconstruct(test::build(test::icosphere(2)));
+  CHECK(max_vertex_gap(ico.mesh, ico.surface) < 1e-14);
+  EdgeCheck ec = check_edges(ico.mesh, ico.surface);
+  CHECK(ec.smooth_edges == 480);
+  CHECK(ec.max_normal_angle < 1e-6);
+  CHECK(ec.max_gap < 1e-12);
+  MESSAGE("icosphere(2): normal angle across edges " << ec.max_normal_angle << ", gap " << ec.max_gap);
+
+  // the check can fail: without the G1 corrections the normals disagree
+  BezierOptions plain;
+  plain.g1_corrections = false;
+  const Built ico_plain = reconstruct(test::build(test::icosphere(2)), {}, plain);
+  CHECK(check_edges(ico_plain.mesh, ico_plain.surface).max_normal_angle > 1e-4);
+
+  ANISURF_REQUIRE_SHARED(path, "bench/inputs/hemi.mesh");
+  const Built hemi = reconstruct(load_mesh(path));
+  CHECK(max_vertex_gap(hemi.mesh, hemi.surface) < 1e-14);
+  ec = check_edges(hemi.mesh, hemi.surface);
+  CHECK(ec.max_normal_angle < 1e-6);
+  CHECK(ec.max_gap < 1e-12);
+}
+
+TEST_CASE("surface: derivatives match finite differences in every subtriangle") {
+  const Built b = reconstruct(test::build(test::icosphere(1)));
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> U(0.02, 0.96);
+  const double h = 1e-6;
+  double worst = 0;
+  for (int t = 0; t < b.mesh.triangle_capacity(); ++t)
+    for (int i = 0; i < 10; ++i) {
+      double x = U(rng), y = U(rng);
+      if (x + y > 0.98) x = 0.98 - x * 0.5, y = 0.98 - x - 0.01;
+      const SurfacePoint p = b.surface.evaluate(Triangle(t), {1 - x - y, x, y});
+      // central differences along v1 - v0 and v2 - v0, kept inside one
+      // subtriangle (the patch is C1 inside, so crossing would also be fine)
+      const Vec3 fd1 = (b.surface.position(Triangle(t), {1 - x - h - y, x + h, y}) -
+                        b.surface.position(Triangle(t), {1 - x + h - y, x - h, y})) /
+                       (2 * h);
+      const Vec3 fd2 = (b.surface.position(Triangle(t), {1 - x - y - h, x, y + h}) -
+                        b.surface.position(Triangle(t), {1 - x - y + h, x, y - h})) /
+                       (2 * h);
+      worst = std::fmax(worst, norm(fd1 - p.d1) / norm(p.d1));
+      worst = std::fmax(worst, norm(fd2 - p.d2) / norm(p.d2));
+      CHECK(std::fabs(norm(p.normal) - 1) < 1e-12);
+      CHECK(dot(p.normal, p.position) > 0);  // outward on the sphere
+    }
+  CHECK(worst < 1e-6);
+}
+
+TEST_CASE("surface: on icospheres the distance to the sphere falls at third order or better") {
+  std::vector<double> err, h;
+  for (int level = 1; level <= 4; ++level) {
+    const Built b = reconstruct(test::build(test::icosphere(level)));
+    err.push_back(test::max_sphere_distance(b.mesh, b.surface, 8));
+    h.push_back(compute_stats(b.mesh).max_edge);
+  }
+  for (std::size_t i = 1; i < err.size(); ++i) {
+    const double rate = std::log(err[i - 1] / err[i]) / std::log(h[i - 1] / h[i]);
+    MESSAGE("icosphere level " << i + 1 << ": h " << h[i] << ", max distance " << err[i] << ", rate " << rate);
+    CHECK(rate > 2.8);
+  }
+}
+
+TEST_CASE("surface: hemi.mesh sampled with k = 4 stays within 5e-3 of the unit sphere") {
+  ANISURF_REQUIRE_SHARED(path, "bench/inputs/hemi.mesh");
+  const SurfaceMesh input = load_mesh(path);
+  const Built b = reconstruct(input);
+  const SurfaceMesh fine = sample_surface(b.mesh, b.surface, 4);
+  double dmax = 0;
+  for (int v = 0; v < fine.vertex_capacity(); ++v) dmax = std::fmax(dmax, std::fabs(norm(fine.position(Vertex(v))) - 1));
+  // the other constructions, for the record
+  NormalOptions aw;
+  aw.method = NormalOptions::Method::AngleWeighted;
+  aw.mirror_iterations = 0;
+  NormalOptions fit;
+  fit.mirror_iterations = 0;
+  BezierOptions proj;
+  proj.handle = BezierOptions::Handle::Projection;
+  proj.g1_corrections = false;
+  const Built b_aw = reconstruct(input, aw, proj), b_fit = reconstruct(input, fit, proj), b_fit_c = reconstruct(input, fit);
+  MESSAGE("hemi k=4 max vertex distance: " << dmax << " (cubic + projection with angle-weighted normals "
+                                           << test::max_sphere_distance(b_aw.mesh, b_aw.surface, 4) << ", with fitted normals "
+                                           << test::max_sphere_distance(b_fit.mesh, b_fit.surface, 4)
+                                           << "; G1 quartic with fitted normals without consistency "
+                                           << test::max_sphere_distance(b_fit_c.mesh, b_fit_c.surface, 4) << ")");
+  CHECK(dmax < 5e-3);
+  CHECK(dmax < 1e-3);
+}
+
+TEST_CASE("sample: k^2 split, shared edge points, tags and references kept") {
+  ANISURF_REQUIRE_SHARED(path, "bench/inputs/hemi.mesh");
+  const Built b = reconstruct(load_mesh(path));
+  const MeshStats in = compute_stats(b.mesh);
+  for (int k : {1, 2, 3, 4}) {
+    const SurfaceMesh fine = sample_surface(b.mesh, b.surface, k);
+    auto rep = fine.validate();
+    INFO(rep.summary());
+    CHECK(rep.ok());
+    const MeshStats out = compute_stats(fine);
+    CHECK(out.triangles == in.triangles * k * k);
+    CHECK(out.vertices == in.vertices + in.edges * (k - 1) + in.triangles * (k - 1) * (k - 2) / 2);
+    CHECK(out.boundary_edges == in.boundary_edges * k);
+    CHECK(out.listed_edges == in.listed_edges * k);
+    CHECK(out.boundary_loops == 1);
+    CHECK(out.euler_characteristic == in.euler_characteristic);
+  }
+  // edge refs carried over
+  const SurfaceMesh fine = sample_surface(b.mesh, b.surface, 3);
+  int ref1 = 0;
+  for (int c = 0; c < 3 * fine.triangle_capacity(); ++c)
+    if (fine.is_boundary_edge(Corner(c))) ref1 += fine.edge_ref(Corner(c)) == 1;
+  CHECK(ref1 == 72);
+  CHECK_THROWS_AS(sample_surface(b.mesh, b.surface, 0), Error);
+}
+
+TEST_CASE("sample: ridges stay ridges, corners stay corners, triangle references kept (cube)") {
+  MeshData d = test::cube();
+  for (std::size_t t = 0; t < d.triangles.size(); ++t) d.triangle_refs.push_back(static_cast<int>(t / 2) + 1);
+  FeatureOptions fo;
+  fo.reference_interfaces = false;  // the ridges come from the dihedral angle
+  const Built b = reconstruct(test::build(d), {}, {}, fo);
+  const SurfaceMesh fine = sample_surface(b.mesh, b.surface, 3);
+  CHECK(fine.validate().ok());
+  const MeshStats s = compute_stats(fine);
+  CHECK(s.ridge_edges == 36);
+  CHECK(s.corner_vertices == 8);
+  CHECK(s.triangle_refs == 6);
+  // every sampled vertex on the cube's surface
+  for (int v = 0; v < fine.vertex_capacity(); ++v) {
+    const Vec3 p = fine.position(Vertex(v));
+    const double dist = std::fmin(std::fmin(std::fmin(std::fabs(p.x), std::fabs(p.x - 1)), std::fmin(std::fabs(p.y), std::fabs(p.y - 1))),
+                                  std::fmin(std::fabs(p.z), std::fabs(p.z - 1)));
+    CHECK(dist < 1e-12);
+  }
+}
