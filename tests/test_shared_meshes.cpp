@@ -110,7 +110,7 @@ TEST_CASE("shared meshes: defects are repaired and reported") {
   }
 }
 
-TEST_CASE("falcon.mesh: read and build adjacency (time printed; bench/bench_io measures it)") {
+TEST_CASE("falcon.mesh: read and build adjacency, time printed (bench_io measures it)") {
   ANISURF_REQUIRE_SHARED(falcon, "meshes/falcon.mesh");
   auto t0 = std::chrono::steady_clock::now();
   MeshData d = read_mesh_data(falcon);
