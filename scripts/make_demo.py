@@ -57,8 +57,8 @@ def metric(p):
     e1 = unit(t)
     e2 = unit((n[1] * e1[2] - n[2] * e1[1], n[2] * e1[0] - n[0] * e1[2], n[0] * e1[1] - n[1] * e1[0]))
     hmax = 0.1
-    w = math.exp(-(g / 0.08) ** 2)            # 1 on the band, 0 away
-    h1 = hmax * (1 - w) + 0.012 * w           # across the band
+    w = math.exp(-(g / 0.15) ** 2)            # 1 on the band, 0 away
+    h1 = hmax * (1 - w) + 0.015 * w           # across the band
     h2 = hmax                                 # along the band
     h3 = hmax                                 # normal direction
     M = [[0.0] * 3 for _ in range(3)]

@@ -63,7 +63,7 @@ MeshStats compute_stats(const SurfaceMesh& m) {
     Triangle th(t);
     if (m.is_deleted(th)) continue;
     s.area += m.triangle_area(th);
-    trefs.insert(m.triangle_ref(th));
+    if (m.triangle_ref(th) != 0) trefs.insert(m.triangle_ref(th));
     if (m.has_tag(th, kRequired)) ++s.required_triangles;
     for (int k = 0; k < 3; ++k) {
       Corner c = SurfaceMesh::corner(th, k);

@@ -21,7 +21,7 @@ struct MeshStats {
   int required_triangles = 0;
   int non_manifold_edges = 0;  // cut edges (tagged kNonManifold)
   int vertex_refs = 0;         // distinct non-zero vertex references
-  int triangle_refs = 0;       // distinct triangle references
+  int triangle_refs = 0;       // distinct non-zero triangle references
   int edge_refs = 0;           // distinct non-zero edge references
   BBox bbox;
   double area = 0;
