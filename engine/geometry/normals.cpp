@@ -170,6 +170,47 @@ class LocalFit {
 
 double angle_of(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
 
+// Smallest angle at v of the triangles beside the edge v -> w (a corner of it
+// in v's fan) whose third vertex lies on the side of `towards` (a direction
+// at v), or pi if none.
+double room_beside(const SurfaceMesh& mesh, Vertex v, const FeatureEdgeAt& edge, const Vec3& towards) {
+  const Vec3& p = mesh.position(v);
+  const Vec3 u = normalized(mesh.position(edge.other) - p);
+  const Vec3 side = towards - dot(towards, u) * u;
+  double room = std::numbers::pi;
+  for (Corner c : {edge.edge, mesh.opposite(edge.edge)}) {
+    if (!c.is_valid()) continue;
+    const Vec3 x = mesh.position(mesh.vertex(c)) - p;  // c is the corner opposite the edge
+    if (dot(x - dot(x, u) * u, side) <= 0) continue;
+    room = std::fmin(room, angle_of(u, x));
+  }
+  return room;
+}
+
+// Tangent line at a regular curve vertex v between curve neighbours a and b,
+// oriented towards b: the circle tangent, unless turning the chords that far
+// would fold a thin triangle beside the curve; then the turn is split by the
+// room on each side (at most `room` times the triangle angle at v); zero if
+// no split fits.
+Vec3 safe_curve_tangent(const SurfaceMesh& mesh, Vertex v, const FeatureEdgeAt& ea, const FeatureEdgeAt& eb,
+                        double room) {
+  const Vec3& p = mesh.position(v);
+  const Vec3 ua = normalized(mesh.position(ea.other) - p), ub = normalized(mesh.position(eb.other) - p);
+  const Vec3 t = circle_tangent(mesh.position(ea.other), p, mesh.position(eb.other));
+  const double turn = std::numbers::pi - angle_of(ua, ub);
+  if (turn < 1e-12) return t;
+  // t towards b turns ub by alpha; -t turns ua by beta = turn - alpha
+  const double alpha_c = angle_of(t, ub);
+  const double ra = room * room_beside(mesh, v, eb, t - ub), rb = room * room_beside(mesh, v, ea, -t - ua);
+  double alpha = std::fmin(alpha_c, ra);
+  if (turn - alpha > rb) alpha = turn - rb;
+  if (alpha > ra + 1e-12 || alpha < 0) return {};
+  if (alpha == alpha_c) return t;
+  // rotate ub by alpha towards -ua in the plane of the chords
+  const Vec3 w = normalized(-ua - dot(-ua, ub) * ub);
+  return normalized(std::cos(alpha) * ub + std::sin(alpha) * w);
+}
+
 }  // namespace
 
 Vec3 circle_tangent(const Vec3& a, const Vec3& v, const Vec3& b) {
@@ -199,8 +240,10 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
     if (mesh.is_deleted(vh) || mesh.is_isolated(vh) || mesh.has_tag(vh, kCorner)) continue;
     const auto fe = feature_edges_at(mesh, vh);
     if (fe.size() != 2) continue;
+    const Vec3 t = safe_curve_tangent(mesh, vh, fe[0], fe[1], options.tangent_room);
+    if (norm(t) == 0) continue;  // no tangent line keeps the patches unfolded: a corner
     regular[v] = 1;
-    line[v] = circle_tangent(mesh.position(fe[0].other), mesh.position(vh), mesh.position(fe[1].other));
+    line[v] = t;
   }
   auto end_tangent = [&](Vertex a, Vertex b) {
     const Vec3 chord = normalized(mesh.position(b) - mesh.position(a));
@@ -231,7 +274,6 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
   auto has_file_normal = mesh.get_vertex_property<std::uint8_t>("has_normal");
   const bool file_normals = options.use_file_normals && file_normal && has_file_normal;
   const double max_dev = options.max_fit_deviation_deg * kDeg;
-  const double corner_sin = std::sin(options.corner_plane_min_angle_deg * kDeg);
   LocalFit fitter(mesh);
   // sectors whose normal may still turn about a curve tangent
   std::vector<int> movable;
@@ -247,12 +289,13 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
       Vec3 n;
       for (Corner c : sector) n += corner_angle(mesh, c) * normalized(mesh.triangle_normal(SurfaceMesh::triangle(c)));
       n = normalized(n);
-      bool done = false;
+      bool done = false, file = false;
       if (file_normals && sectors.size() == 1 && has_file_normal[vh] && norm(file_normal[vh]) > 0) {
         Vec3 fn = normalized(file_normal[vh]);
         n = dot(fn, n) >= 0 ? fn : -fn;
         ++f.from_file;
         done = true;
+        file = true;
       }
       if (!done && options.method == NormalOptions::Method::LocalFit && norm(n) > 0) {
         const std::vector<Vec3>& pts = fitter.gather(vh, sector);
@@ -273,33 +316,16 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
         }
       }
       if (!done) ++f.angle_weighted;
-      // constraints from the bounding feature curves
-      Vec3 free_axis;  // a curve tangent line the normal may still turn about
-      bool fixed = false;  // fixed by two curve tangents
-      const Corner first_edge = SurfaceMesh::prev(sector.front());  // v -> next(front)
-      const Corner last_edge = SurfaceMesh::next(sector.back());    // prev(back) -> v
-      if (is_feature_edge(mesh, first_edge) || is_feature_edge(mesh, last_edge)) {
-        // tangents at v pointing along each bounding edge
-        const Vec3 ta = f.tangent_[2 * first_edge.idx];      // v is edge_from(first_edge)
-        const Vec3 tb = f.tangent_[2 * last_edge.idx + 1];   // v is edge_to(last_edge)
-        const Vec3 cr = cross(ta, tb);
-        Vec3 m;
-        if (norm(cr) > corner_sin) {
-          m = normalized(cr);
-          if (dot(m, n) < 0) m = -m;
-          fixed = true;
-        } else {
-          const Vec3 l = normalized(dot(ta, tb) < 0 ? ta - tb : ta + tb);
-          m = normalized(n - dot(n, l) * l);
-          free_axis = l;
-        }
-        if (norm(m) > 0) {
-          n = m;
-          ++f.constrained;
-        }
+      // on a regular curve vertex the plane contains the curve tangent; at
+      // corners the tangents follow from the sector planes (step 4)
+      Vec3 free_axis;
+      if (regular[v]) {
+        free_axis = line[v];
+        n = normalized(n - dot(n, free_axis) * free_axis);
+        ++f.constrained;
       }
       const int s = static_cast<int>(f.sector_normal_.size());
-      if (!fixed) {
+      if (!file) {  // the file's normals are kept as they are
         movable.push_back(s);
         axis.push_back(free_axis);
         estimate.push_back(n);
@@ -408,6 +434,108 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
     for (int c = 0; c < nc; ++c)
       if (f.corner_sector_[c] >= 0) f.corner_normal_[c] = f.sector_normal_[f.corner_sector_[c]];
   }
+  // 3b. a sector normal must see every triangle of its sector (else the patch
+  // folds there): on noisy fans, tilt it towards the triangles it sees worst.
+  const double min_cos = std::cos(options.max_tilt_deg * kDeg);
+  for (std::size_t i = 0; i < movable.size(); ++i) {
+    const int s = movable[i];
+    auto worst = [&](const Vec3& n, Vec3* wn) {
+      double m = 2;
+      for (Corner c : members[i]) {
+        const Vec3 tn = normalized(mesh.triangle_normal(SurfaceMesh::triangle(c)));
+        if (dot(n, tn) < m) {
+          m = dot(n, tn);
+          if (wn) *wn = tn;
+        }
+      }
+      return m;
+    };
+    Vec3 n = f.sector_normal_[s];
+    if (worst(n, nullptr) >= min_cos) continue;
+    for (int it = 0; it < 100 && worst(n, nullptr) < min_cos; ++it) {
+      Vec3 wn;
+      worst(n, &wn);
+      n = normalized(n + 0.1 * wn);
+      if (norm(axis[i]) > 0) n = normalized(n - dot(n, axis[i]) * axis[i]);
+    }
+    if (worst(n, nullptr) > worst(f.sector_normal_[s], nullptr)) {
+      f.sector_normal_[s] = n;
+      ++f.tilted;
+    }
+  }
+
+  // 4. corners: sectors joined by a feature edge along which their planes
+  // differ by less than corner_merge_angle_deg share their mean plane; then
+  // each curve end at a corner takes the intersection line of the planes of
+  // its two sectors, or (one sector, or one shared plane) the projection of
+  // its estimate onto that plane. Every sector plane then contains the
+  // tangents of its bounding curves (proposition 1 holds in every sector).
+  const double merge_angle = options.corner_merge_angle_deg * kDeg;
+  for (int v = 0; v < mesh.vertex_capacity(); ++v) {
+    const Vertex vh(v);
+    if (mesh.is_deleted(vh) || mesh.is_isolated(vh) || regular[v]) continue;
+    const auto fe = feature_edges_at(mesh, vh);
+    if (fe.empty()) continue;
+    // the sectors on both sides of each feature edge at v
+    struct End {
+      Corner e;   // the feature edge (a corner of it inside v's fan)
+      bool from;  // v == edge_from(e)
+      int s1, s2; // sectors beside it (s2 = -1 on a boundary)
+    };
+    std::vector<End> ends;
+    for (const auto& x : fe) {
+      End en{x.edge, mesh.edge_from(x.edge) == vh, -1, -1};
+      const Corner cv = en.from ? SurfaceMesh::next(x.edge) : SurfaceMesh::prev(x.edge);
+      en.s1 = f.corner_sector_[cv.idx];
+      const Corner o = mesh.opposite(x.edge);
+      if (o.is_valid()) {
+        const Corner ov = en.from ? SurfaceMesh::prev(o) : SurfaceMesh::next(o);
+        en.s2 = f.corner_sector_[ov.idx];
+      }
+      ends.push_back(en);
+    }
+    // merge nearly coplanar neighbours (union-find over v's sectors)
+    std::vector<int> ids;
+    for (const End& en : ends)
+      for (int s : {en.s1, en.s2})
+        if (s >= 0 && std::find(ids.begin(), ids.end(), s) == ids.end()) ids.push_back(s);
+    std::vector<int> parent(ids.size());
+    for (std::size_t i = 0; i < ids.size(); ++i) parent[i] = static_cast<int>(i);
+    auto local = [&](int s) { return static_cast<int>(std::find(ids.begin(), ids.end(), s) - ids.begin()); };
+    auto root = [&](int i) {
+      while (parent[i] != i) i = parent[i] = parent[parent[i]];
+      return i;
+    };
+    for (const End& en : ends)
+      if (en.s2 >= 0 && en.s1 != en.s2 && angle_of(f.sector_normal_[en.s1], f.sector_normal_[en.s2]) < merge_angle)
+        parent[root(local(en.s1))] = root(local(en.s2));
+    std::vector<Vec3> group(ids.size());
+    for (std::size_t i = 0; i < ids.size(); ++i) group[root(static_cast<int>(i))] += f.sector_normal_[ids[i]];
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      const Vec3 g = normalized(group[root(static_cast<int>(i))]);
+      if (norm(g) > 0) f.sector_normal_[ids[i]] = g;
+    }
+    for (const End& en : ends) {
+      const Vec3& n1 = f.sector_normal_[en.s1];
+      Vec3& t = f.tangent_[2 * en.e.idx + (en.from ? 0 : 1)];
+      const Vec3 chord = mesh.position(en.from ? mesh.edge_to(en.e) : mesh.edge_from(en.e)) - mesh.position(vh);
+      Vec3 nt;
+      if (en.s2 >= 0 && root(local(en.s1)) != root(local(en.s2))) {
+        nt = normalized(cross(n1, f.sector_normal_[en.s2]));
+      } else {
+        nt = normalized(t - dot(t, n1) * n1);
+        if (norm(nt) == 0) nt = normalized(chord - dot(chord, n1) * n1);
+      }
+      if (norm(nt) == 0) continue;
+      if (dot(nt, t) < 0 || (dot(t, t) == 0 && dot(nt, chord) < 0)) nt = -nt;
+      t = nt;
+      const Corner o = mesh.opposite(en.e);
+      if (o.is_valid()) f.tangent_[2 * o.idx + (en.from ? 1 : 0)] = nt;
+      ++f.constrained;
+    }
+  }
+  for (int c = 0; c < nc; ++c)
+    if (f.corner_sector_[c] >= 0) f.corner_normal_[c] = f.sector_normal_[f.corner_sector_[c]];
   return f;
 }
 

@@ -42,10 +42,19 @@ struct NormalOptions {
   // Use the file's NormalAtVertices (vertex properties "normal"/"has_normal")
   // at vertices with a single sector.
   bool use_file_normals = true;
-  // At a corner, a sector's plane is the plane of its two bounding curve
-  // tangents when they make more than this angle (and less than 180 minus it);
-  // otherwise the estimated normal is made orthogonal to their mean line.
-  double corner_plane_min_angle_deg = 10.0;
+  // The tangent of a feature curve at a regular vertex is the circle tangent
+  // unless that turns an edge by more than tangent_room times the angle at
+  // the vertex of a triangle beside it (which would fold the patch); then
+  // the turn is shared by the room on each side, and when nothing fits the
+  // vertex is handled like a corner.
+  double tangent_room = 0.5;
+  // A sector normal more than this angle away from one of its triangles'
+  // normals (noisy fans: the patch would fold) is tilted towards them.
+  double max_tilt_deg = 75.0;
+  // At a corner, sectors joined by a feature edge along which their planes
+  // differ by less than this angle share one plane (e.g. both sides of a
+  // reference interface on a smooth surface).
+  double corner_merge_angle_deg = 20.0;
 };
 
 // Tangent planes per sector and feature-curve tangents, indexed by corner.
@@ -66,6 +75,7 @@ class SurfaceFrames {
   const Vec3& tangent_to(Corner e) const { return tangent_[2 * e.idx + 1]; }
   // How each sector normal was obtained (counts over sectors).
   int fitted = 0, angle_weighted = 0, from_file = 0, constrained = 0;
+  int tilted = 0;  // sectors tilted to see all their triangles
 
  private:
   friend SurfaceFrames compute_frames(const SurfaceMesh&, const NormalOptions&);
@@ -78,9 +88,13 @@ class SurfaceFrames {
 
 // Computes the frames of `mesh` from its feature tags (run detect_features
 // first). Pre: a valid mesh. Sector normals are oriented like the triangles
-// (counter-clockwise seen from outside) and, at feature vertices, orthogonal
-// to the bounding curve tangents so that the control points around every
-// vertex of a sector are coplanar (report, proposition 1).
+// (counter-clockwise seen from outside). On a regular curve vertex (two
+// feature edges, not a corner) the curve tangent comes first (circle through
+// the vertex and its two curve neighbours) and the sector planes contain it;
+// at a corner the planes come first and each curve end takes the line where
+// the planes of its two sectors meet. Either way every sector plane contains
+// the tangents of its bounding curves, so that the control points around
+// every vertex of a sector are coplanar (report, proposition 1).
 SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& options = {});
 
 // Unit tangent of a feature curve at the middle vertex of three consecutive
