@@ -38,6 +38,8 @@ const char* kReconstructHelp =
     "  --remove-corner I      untag it (repeatable)\n"
     "  --normals fit|angle    vertex tangent planes: local height-function fit over the\n"
     "                         2-ring (default) or angle-weighted triangle normals\n"
+    "  --no-consistency       keep the estimated tangent planes as they are (no global\n"
+    "                         step making every edge meet both planes at equal angles)\n"
     "  --no-file-normals      ignore the file's NormalAtVertices\n"
     "  --handle circular|projection\n"
     "                         edge control points: arc-exact length (default) or the\n"
@@ -92,6 +94,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
   if (nm == "angle") no.method = NormalOptions::Method::AngleWeighted;
   else if (!nm.empty() && nm != "fit") throw UsageError{"--normals expects fit or angle, got '" + nm + "'"};
   if (p.flag("--no-file-normals")) no.use_file_normals = false;
+  if (p.flag("--no-consistency")) no.mirror_iterations = 0;
   BezierOptions bo;
   const std::string hm = p.option("--handle");
   if (hm == "projection") bo.handle = BezierOptions::Handle::Projection;
