@@ -13,6 +13,7 @@ Command convert_command();
 Command quality_command();
 Command metric_command();
 Command reconstruct_command();
+Command adapt_command();
 
 std::vector<Command> engine_commands() {
   std::vector<Command> list;
@@ -21,6 +22,7 @@ std::vector<Command> engine_commands() {
   list.push_back(metric_command());
   list.push_back(quality_command());
   list.push_back(reconstruct_command());
+  list.push_back(adapt_command());
   return list;
 }
 

@@ -1,0 +1,152 @@
+#include "remesh/adapted_mesh.h"
+
+#include <algorithm>
+#include <deque>
+
+#include "geometry/features.h"
+#include "mesh/operators.h"
+#include "metric/quality.h"
+
+namespace anisurf::remesh {
+
+AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, ControlSpace& control, LengthFormula length)
+    : mesh_(std::move(initial)), geometry_(geometry), control_(control), length_(length) {
+  auto& props = mesh_.vertex_properties();
+  for (const char* n : {"remesh:metric", "remesh:hint_g", "remesh:hint_0"}) props.remove(n);
+  metric_ = mesh_.add_vertex_property<SymTensor3>("remesh:metric", SymTensor3::identity());
+  hint_g_ = mesh_.add_vertex_property<Hint>("remesh:hint_g");
+  hint_0_ = mesh_.add_vertex_property<Hint>("remesh:hint_0");
+  for (const FieldInfo& f : control_.field_infos()) {
+    Property<FieldValue> p = mesh_.get_field(f.name);
+    if (!p) p = mesh_.add_field(f.name, f.kind, f.ncomp);
+    solution_.push_back(p);
+  }
+
+  // Initial locations by propagation (section 4.3): breadth-first over T_1,
+  // each vertex searched from the hints of the neighbour that reached it.
+  // Positions are kept: T_1 starts on the geometry.
+  std::vector<char> seen(static_cast<std::size_t>(mesh_.vertex_capacity()), 0);
+  std::deque<Vertex> queue;
+  for (int s = 0; s < mesh_.vertex_capacity(); ++s) {
+    const Vertex seed(s);
+    if (mesh_.is_deleted(seed) || mesh_.is_isolated(seed) || seen[s]) continue;
+    seen[s] = 1;
+    queue.push_back(seed);
+    while (!queue.empty()) {
+      const Vertex v = queue.front();
+      queue.pop_front();
+      std::vector<Vertex> near;
+      for (Vertex w : one_ring(mesh_, v))
+        if (seen[w.idx] == 2) near.push_back(w);
+      const Vec3 x = mesh_.position(v);
+      Placement p = place(x, kind(v), near);
+      p.position = x;
+      commit(v, p);
+      seen[v.idx] = 2;
+      for (Vertex w : one_ring(mesh_, v))
+        if (!seen[w.idx]) {
+          seen[w.idx] = 1;
+          queue.push_back(w);
+        }
+    }
+  }
+}
+
+Constraint AdaptedMesh::constraint(VertexKind k) const {
+  switch (k) {
+    case VertexKind::Free: return Constraint::Free;
+    case VertexKind::Curve: return Constraint::OnFeature;
+    case VertexKind::Fixed: return Constraint::Fixed;
+  }
+  return Constraint::Free;
+}
+
+VertexKind AdaptedMesh::kind(Vertex v) const {
+  if (mesh_.vertex_tags(v) & (kCorner | kRequired)) return VertexKind::Fixed;
+  const std::size_t n = feature_edges_at(mesh_, v).size();
+  if (n == 0) return VertexKind::Free;
+  return n == 2 ? VertexKind::Curve : VertexKind::Fixed;
+}
+
+Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, std::initializer_list<Vertex> near) {
+  return place(x, kind, std::vector<Vertex>(near));
+}
+
+Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, const std::vector<Vertex>& near) {
+  std::array<Hint, 8> hg{}, h0{};
+  std::size_t n = 0;
+  for (Vertex v : near) {
+    if (n == hg.size()) break;
+    if (!hint_g_[v].is_valid()) continue;
+    hg[n] = hint_g_[v];
+    h0[n] = hint_0_[v];
+    ++n;
+  }
+  // A fixed vertex is not moved: it is only located (as a free point).
+  const Constraint c = kind == VertexKind::Fixed ? Constraint::Free : constraint(kind);
+  const Projection pr = geometry_.project(x, std::span<const Hint>(hg.data(), n), c);
+  Placement p;
+  p.position = kind == VertexKind::Fixed ? x : pr.point;
+  p.normal = pr.normal;
+  p.distance = norm(pr.point - x);
+  p.hint_g = pr.location.hint();
+  const Location in0 = control_.locate(p.position, n ? h0[0] : Hint{}, pr.location);
+  p.hint_0 = in0.hint();
+  p.values = control_.values_at(in0);
+  return p;
+}
+
+Placement AdaptedMesh::current(Vertex v) const {
+  Placement p;
+  p.position = mesh_.position(v);
+  p.hint_g = hint_g_[v];
+  p.hint_0 = hint_0_[v];
+  p.values.metric = metric_[v];
+  for (const auto& s : solution_) p.values.fields.push_back(s[v]);
+  return p;
+}
+
+void AdaptedMesh::commit(Vertex v, const Placement& p) {
+  mesh_.position(v) = p.position;
+  hint_g_[v] = p.hint_g;
+  hint_0_[v] = p.hint_0;
+  metric_[v] = p.values.metric;
+  for (std::size_t i = 0; i < solution_.size() && i < p.values.fields.size(); ++i) solution_[i][v] = p.values.fields[i];
+}
+
+double AdaptedMesh::quality(const std::array<Vec3, 3>& p, const std::array<SymTensor3, 3>& M) const {
+  return triangle_quality(p, M, length_);
+}
+
+double AdaptedMesh::quality(Triangle t) const {
+  const Vertex a = mesh_.vertex(t, 0), b = mesh_.vertex(t, 1), c = mesh_.vertex(t, 2);
+  return quality({mesh_.position(a), mesh_.position(b), mesh_.position(c)}, {metric_[a], metric_[b], metric_[c]});
+}
+
+int AdaptedMesh::count_inverted() {
+  int n = 0;
+  for (int i = 0; i < mesh_.triangle_capacity(); ++i) {
+    const Triangle t(i);
+    if (mesh_.is_deleted(t)) continue;
+    const Vertex a = mesh_.vertex(t, 0), b = mesh_.vertex(t, 1), c = mesh_.vertex(t, 2);
+    const Vec3 g = (mesh_.position(a) + mesh_.position(b) + mesh_.position(c)) / 3.0;
+    const std::array<Hint, 3> h = {hint_g_[a], hint_g_[b], hint_g_[c]};
+    const Projection pr = geometry_.project(g, h, Constraint::Free);
+    const Vec3 nt = mesh_.triangle_normal(t);
+    if (!(dot(nt, pr.normal) > 0)) ++n;
+  }
+  return n;
+}
+
+void AdaptedMesh::store_fields() {
+  Property<FieldValue> m = mesh_.get_field("metric");
+  if (!m) m = mesh_.add_field("metric", FieldKind::Tensor, 6);
+  for (int i = 0; i < mesh_.vertex_capacity(); ++i) {
+    const Vertex v(i);
+    if (mesh_.is_deleted(v)) continue;
+    m[v] = metric_[v].m;
+  }
+  (void)solution_;  // the solution properties are the mesh fields themselves
+}
+
+}  // namespace anisurf::remesh

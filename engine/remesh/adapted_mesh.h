@@ -1,0 +1,95 @@
+// T_1, the mesh being adapted (report section 6), tied to T_G and T_0.
+//
+// Each vertex of T_1 carries, in property arrays: its metric (interpolated in
+// T_0 at its location there), one hint per reference mesh (the triangle of
+// its last location in T_G and in T_0: "three pointers to triangles", section
+// 6) and the solution values of T_0's fields. place() computes all of it for
+// a candidate position (projection onto the geometry, location in T_0), and
+// commit() is the one hook that writes it to a vertex after an operator
+// created or moved it.
+#pragma once
+#include <array>
+#include <initializer_list>
+#include <vector>
+
+#include "remesh/reference.h"
+
+namespace anisurf::remesh {
+
+// Everything a vertex of T_1 takes from T_G and T_0 at one position.
+struct Placement {
+  Vec3 position;
+  Vec3 normal;  // unit normal of the surface at the position (zero if unknown)
+  Hint hint_g, hint_0;
+  ControlValues values;
+  double distance = 0;  // from the requested point to the surface
+};
+
+// How a vertex of T_1 may move (report sections 5.1 and 5.5).
+enum class VertexKind {
+  Free,   // interior of a smooth region: anywhere on the surface
+  Curve,  // on exactly two feature edges: along its curve only
+  Fixed,  // corner, required, or on one or more than two feature edges
+};
+
+class AdaptedMesh {
+ public:
+  // T_1 starts as `initial` (usually a copy of T_0). Every vertex is located
+  // in T_G and T_0 (section 4.3, by propagation) and takes its metric and
+  // solution values there. Pre: `initial` carries the feature tags of T_G.
+  AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, ControlSpace& control,
+              LengthFormula length = LengthFormula::LinearMetric);
+
+  SurfaceMesh& mesh() { return mesh_; }
+  const SurfaceMesh& mesh() const { return mesh_; }
+  GeometrySurface& geometry() { return geometry_; }
+  ControlSpace& control() { return control_; }
+
+  // The projection of x onto the surface under `kind`'s constraint, searched
+  // from the hints of the vertices `near` (in T_G and T_0), with the metric
+  // and solution of T_0 there. Fixed vertices are not projected.
+  Placement place(const Vec3& x, VertexKind kind, std::initializer_list<Vertex> near);
+  Placement place(const Vec3& x, VertexKind kind, const std::vector<Vertex>& near);
+  // The placement of v as it is now (no search).
+  Placement current(Vertex v) const;
+  // The data-transfer hook: v takes the placement (position, hints, metric,
+  // solution values). Called after every split (new vertex), collapse (kept
+  // vertex, when it moves) and move.
+  void commit(Vertex v, const Placement& p);
+
+  const SymTensor3& metric(Vertex v) const { return metric_[v]; }
+  const Property<SymTensor3>& metric_property() const { return metric_; }
+  VertexKind kind(Vertex v) const;
+  Constraint constraint(VertexKind k) const;
+
+  // Edge length in the metric between two positions with their metrics
+  // (eq. 6, or eq. 7 with LengthFormula::LinearSize).
+  double length(const Vec3& a, const SymTensor3& Ma, const Vec3& b, const SymTensor3& Mb) const {
+    return edge_length(Ma, Mb, b - a, length_);
+  }
+  double length(Vertex a, Vertex b) const {
+    return length(mesh_.position(a), metric_[a], mesh_.position(b), metric_[b]);
+  }
+  // Quality c_K (eq. 17) with edge lengths from the vertex metrics.
+  double quality(const std::array<Vec3, 3>& p, const std::array<SymTensor3, 3>& M) const;
+  double quality(Triangle t) const;
+  LengthFormula length_formula() const { return length_; }
+
+  // Triangles of T_1 whose normal points against the surface normal at their
+  // centroid's location on T_G (O(n); for tests and reports).
+  int count_inverted();
+  // Writes the vertex metrics into the mesh field "metric" and the solution
+  // values into fields named as in T_0 (for saving).
+  void store_fields();
+
+ private:
+  SurfaceMesh mesh_;
+  GeometrySurface& geometry_;
+  ControlSpace& control_;
+  LengthFormula length_;
+  Property<SymTensor3> metric_;
+  Property<Hint> hint_g_, hint_0_;
+  std::vector<Property<FieldValue>> solution_;
+};
+
+}  // namespace anisurf::remesh

@@ -1,0 +1,429 @@
+#include "remesh/operators.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "geometry/features.h"
+#include "mesh/operators.h"
+
+namespace anisurf::remesh {
+
+namespace {
+
+using M = SurfaceMesh;
+
+double cos_deg(double deg) { return std::cos(deg * std::numbers::pi / 180.0); }
+
+Vec3 raw_normal(const Vec3& a, const Vec3& b, const Vec3& c) { return cross(b - a, c - a); }
+
+// A new triangle (a, b, c) replacing one of unit normal `old_n`: refused when
+// degenerate, inverted or turned too far; `surface_n` (unit, or zero) is the
+// surface normal at a vertex just placed on the surface.
+Rejection check_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& old_n, const Vec3& surface_n,
+                         const OperatorOptions& o) {
+  const Vec3 n = raw_normal(a, b, c);
+  const double len2 = std::max({norm2(b - a), norm2(c - b), norm2(a - c)});
+  const double area2 = norm(n);
+  if (!(area2 > 1e-12 * len2)) return Rejection::Inversion;
+  const Vec3 u = n / area2;
+  const double d = dot(u, old_n);
+  if (d <= 0) return Rejection::Inversion;
+  if (d < cos_deg(o.max_normal_turn_deg)) return Rejection::Normal;
+  if (norm2(surface_n) > 0) {
+    const double s = dot(u, surface_n);
+    if (s <= 0) return Rejection::Inversion;
+    if (s < cos_deg(o.max_surface_angle_deg)) return Rejection::Normal;
+  }
+  return Rejection::None;
+}
+
+Vec3 unit_normal(const SurfaceMesh& mesh, Triangle t) { return normalized(mesh.triangle_normal(t)); }
+
+// The positions and metrics of triangle t with vertex `moved` (and optionally
+// `also`) replaced by the placement p.
+struct TriangleView {
+  std::array<Vec3, 3> x;
+  std::array<SymTensor3, 3> M;
+};
+TriangleView view(const AdaptedMesh& m, Triangle t, Vertex moved, Vertex also, const Placement& p) {
+  TriangleView v;
+  for (int k = 0; k < 3; ++k) {
+    const Vertex w = m.mesh().vertex(t, k);
+    if (w == moved || w == also) {
+      v.x[k] = p.position;
+      v.M[k] = p.values.metric;
+    } else {
+      v.x[k] = m.mesh().position(w);
+      v.M[k] = m.metric(w);
+    }
+  }
+  return v;
+}
+
+// Unit direction, or zero.
+Vec3 dir(const Vec3& a, const Vec3& b) { return normalized(b - a); }
+
+}  // namespace
+
+std::string_view rejection_name(Rejection r) {
+  switch (r) {
+    case Rejection::None: return "none";
+    case Rejection::Topology: return "topology";
+    case Rejection::Fixed: return "fixed";
+    case Rejection::Feature: return "feature";
+    case Rejection::Tangent: return "tangent";
+    case Rejection::Inversion: return "inversion";
+    case Rejection::Normal: return "normal";
+    case Rejection::Quality: return "quality";
+    case Rejection::LongEdge: return "long_edge";
+    case Rejection::Cache: return "cache";
+    case Rejection::NoGain: return "no_gain";
+    case Rejection::kCount: break;
+  }
+  return "?";
+}
+
+Corner find_edge_corner(const SurfaceMesh& mesh, Vertex a, Vertex b) {
+  if (!a.is_valid() || !b.is_valid() || mesh.is_deleted(a) || mesh.is_deleted(b) || mesh.is_isolated(a)) return {};
+  for (Corner c : mesh.fan(a)) {
+    // In c's triangle, the edges at a are a->next and prev->a.
+    const Corner n = M::next(c), p = M::prev(c);
+    if (mesh.vertex(n) == b) return p;  // edge a -> b is opposite prev(c)
+    if (mesh.vertex(p) == b) return n;  // edge b -> a is opposite next(c)
+  }
+  return {};
+}
+
+// --- split --------------------------------------------------------------------
+
+SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
+  const SurfaceMesh& mesh = m.mesh();
+  SplitPlan plan;
+  const Vertex b = mesh.edge_from(c), d = mesh.edge_to(c);
+  plan.kind = is_feature_edge(mesh, c) ? VertexKind::Curve : VertexKind::Free;
+  const Vec3 mid = 0.5 * (mesh.position(b) + mesh.position(d));
+
+  // The one or two triangles of the edge, halved at x.
+  auto check = [&](const Vec3& x, const Vec3& surface_n) {
+    for (Corner k : {c, mesh.opposite(c)}) {
+      if (!k.is_valid()) continue;
+      const Triangle t = M::triangle(k);
+      const Vec3 old_n = unit_normal(mesh, t);
+      const Vec3 pa = mesh.position(mesh.vertex(k)), pb = mesh.position(mesh.edge_from(k)),
+                 pd = mesh.position(mesh.edge_to(k));
+      Rejection r = check_triangle(pa, pb, x, old_n, surface_n, o);
+      if (r == Rejection::None) r = check_triangle(pa, x, pd, old_n, surface_n, o);
+      if (r != Rejection::None) return r;
+    }
+    return Rejection::None;
+  };
+  plan.at = m.place(mid, plan.kind, {b, d});
+  const Vec3 sn = plan.kind == VertexKind::Free ? plan.at.normal : Vec3();
+  plan.why = check(plan.at.position, sn);
+  if (plan.why != Rejection::None) {
+    // Section 5.3: the projection is not admissible, the midpoint is used.
+    const Rejection first = plan.why;
+    plan.why = check(mid, Vec3());
+    if (plan.why == Rejection::None) {
+      plan.projected = false;
+      plan.at.position = mid;
+    } else {
+      plan.why = first;
+    }
+  }
+  return plan;
+}
+
+Vertex split(AdaptedMesh& m, Corner c, const SplitPlan& plan) {
+  SurfaceMesh& mesh = m.mesh();
+  const std::uint8_t etags = mesh.edge_tags(c);
+  const bool boundary = mesh.is_boundary_edge(c);
+  const Vertex v = anisurf::split(mesh, c, plan.at.position);
+  if (etags & kRidge) mesh.add_vertex_tag(v, kRidge);
+  if (boundary || (etags & kBoundary)) mesh.add_vertex_tag(v, kBoundary);
+  m.commit(v, plan.at);
+  return v;
+}
+
+// --- collapse -----------------------------------------------------------------
+
+namespace {
+
+int rank(VertexKind k) { return k == VertexKind::Free ? 0 : (k == VertexKind::Curve ? 1 : 2); }
+
+// Checks removing r into k, k taking the placement p. `c` names the edge.
+Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Placement& p, bool moves,
+                         VertexKind kind_r, VertexKind kind_k, const OperatorOptions& o) {
+  const SurfaceMesh& mesh = m.mesh();
+  if (!anisurf::can_collapse(mesh, c)) return Rejection::Topology;
+  // Curve vertices: the new curve segments keep the directions of the old ones.
+  if (kind_r == VertexKind::Curve || (moves && kind_k == VertexKind::Curve)) {
+    const double lim = cos_deg(o.max_curve_turn_deg);
+    for (Vertex w : {r, k}) {
+      if (w == k && !moves) continue;
+      for (const FeatureEdgeAt& f : feature_edges_at(mesh, w)) {
+        if (f.other == r || f.other == k) continue;
+        const Vec3 old_d = dir(mesh.position(w), mesh.position(f.other));
+        const Vec3 new_d = dir(p.position, mesh.position(f.other));
+        if (dot(old_d, new_d) < lim) return Rejection::Tangent;
+      }
+    }
+  }
+  // New triangles: the fans of r and k without the triangles of the edge.
+  const Vec3 sn = kind_k == VertexKind::Free && moves ? p.normal : Vec3();
+  double q_old = 1, q_new = 1;
+  bool any = false;
+  for (Vertex w : {r, k}) {
+    for (Corner x : mesh.fan(w)) {
+      const Triangle t = M::triangle(x);
+      const bool has_r = mesh.corner_of(t, r).is_valid(), has_k = mesh.corner_of(t, k).is_valid();
+      if (w == k && has_r) continue;  // counted once from r's fan
+      q_old = std::min(q_old, m.quality(t));
+      if (has_r && has_k) continue;  // removed
+      if (w == k && !moves) continue;  // unchanged
+      const TriangleView tv = view(m, t, r, k, p);
+      const Rejection why = check_triangle(tv.x[0], tv.x[1], tv.x[2], unit_normal(mesh, t), sn, o);
+      if (why != Rejection::None) return why;
+      q_new = std::min(q_new, m.quality(tv.x, tv.M));
+      any = true;
+    }
+  }
+  if (!any) return Rejection::Topology;
+  // New or changed edges no longer than lmax.
+  for (Vertex w : {r, k}) {
+    if (w == k && !moves) continue;
+    for (Vertex n : one_ring(mesh, w)) {
+      if (n == r || n == k) continue;
+      if (m.length(p.position, p.values.metric, mesh.position(n), m.metric(n)) > o.lmax) return Rejection::LongEdge;
+    }
+  }
+  if (q_new < std::min(q_old, o.collapse_quality)) return Rejection::Quality;
+  return Rejection::None;
+}
+
+}  // namespace
+
+CollapsePlan can_collapse(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
+  const SurfaceMesh& mesh = m.mesh();
+  const Vertex p = mesh.edge_from(c), q = mesh.edge_to(c);
+  const VertexKind kp = m.kind(p), kq = m.kind(q);
+  const bool feature_edge = is_feature_edge(mesh, c);
+  CollapsePlan out;
+  out.edge = c;
+  out.why = Rejection::Fixed;
+  if (kp == VertexKind::Fixed && kq == VertexKind::Fixed) return out;
+
+  // May r be removed into the other end?
+  auto removable = [&](VertexKind kr) {
+    if (kr == VertexKind::Fixed) return Rejection::Fixed;
+    if (kr == VertexKind::Curve && !feature_edge) return Rejection::Feature;
+    return Rejection::None;
+  };
+  struct Option {
+    Vertex removed, kept;
+    VertexKind kr, kk;
+    bool moves;
+  };
+  std::vector<Option> options;
+  if (kp == kq && removable(kp) == Rejection::None) options.push_back({p, q, kp, kq, true});
+  // The less constrained end first.
+  if (rank(kp) <= rank(kq)) {
+    options.push_back({p, q, kp, kq, false});
+    options.push_back({q, p, kq, kp, false});
+  } else {
+    options.push_back({q, p, kq, kp, false});
+    options.push_back({p, q, kp, kq, false});
+  }
+  Rejection last = Rejection::Fixed;
+  for (const Option& op : options) {
+    const Rejection why = removable(op.kr);
+    if (why != Rejection::None) {
+      if (last == Rejection::Fixed) last = why;
+      continue;
+    }
+    Placement at;
+    if (op.moves) {
+      const Vec3 mid = 0.5 * (mesh.position(p) + mesh.position(q));
+      at = m.place(mid, op.kk, {p, q});
+    } else {
+      at = m.current(op.kept);
+    }
+    last = check_collapse(m, c, op.removed, op.kept, at, op.moves, op.kr, op.kk, o);
+    if (last == Rejection::None) {
+      out.why = Rejection::None;
+      out.removed = op.removed;
+      out.kept = op.kept;
+      out.at = at;
+      out.moves = op.moves;
+      return out;
+    }
+  }
+  out.why = last;
+  return out;
+}
+
+CollapsePlan can_remove_vertex(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
+  const SurfaceMesh& mesh = m.mesh();
+  CollapsePlan out;
+  const VertexKind kv = m.kind(v);
+  out.why = Rejection::Fixed;
+  if (kv == VertexKind::Fixed) return out;
+  std::vector<Vertex> cands;
+  if (kv == VertexKind::Curve) {
+    for (const FeatureEdgeAt& f : feature_edges_at(mesh, v)) cands.push_back(f.other);
+  } else {
+    cands = one_ring(mesh, v);
+  }
+  std::vector<std::pair<double, Vertex>> by_length;
+  for (Vertex w : cands) by_length.push_back({m.length(v, w), w});
+  std::sort(by_length.begin(), by_length.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  for (const auto& [len, w] : by_length) {
+    (void)len;
+    // The corner of the edge with v as edge_from, or (boundary edge w -> v)
+    // the one with w as edge_from: collapse() then moves v's data to the slot.
+    Corner c = find_edge_corner(mesh, v, w);
+    if (!c.is_valid()) continue;
+    const Placement at = m.current(w);
+    out.why = check_collapse(m, c, v, w, at, false, kv, m.kind(w), o);
+    if (out.why == Rejection::None) {
+      out.edge = c;
+      out.removed = v;
+      out.kept = w;
+      out.at = at;
+      out.moves = false;
+      return out;
+    }
+  }
+  return out;
+}
+
+Vertex collapse(AdaptedMesh& m, const CollapsePlan& plan) {
+  SurfaceMesh& mesh = m.mesh();
+  // The topological collapse removes edge_from(edge); the surviving slot takes
+  // the kept vertex's tags, reference and placement.
+  const std::uint8_t tags = mesh.vertex_tags(plan.kept);
+  const int ref = mesh.vertex_ref(plan.kept);
+  const Vertex v = anisurf::collapse(mesh, plan.edge);
+  mesh.set_vertex_tags(v, tags);
+  mesh.set_vertex_ref(v, ref);
+  m.commit(v, plan.at);
+  return v;
+}
+
+// --- swap ---------------------------------------------------------------------
+
+SwapPlan can_swap(const AdaptedMesh& m, Corner c, const OperatorOptions& o) {
+  const SurfaceMesh& mesh = m.mesh();
+  SwapPlan plan;
+  if (mesh.is_boundary_edge(c) || is_feature_edge(mesh, c)) {
+    plan.why = Rejection::Feature;
+    return plan;
+  }
+  if (!can_flip(mesh, c)) {
+    plan.why = Rejection::Topology;
+    return plan;
+  }
+  const Corner oc = mesh.opposite(c);
+  const Vertex a = mesh.vertex(c), b = mesh.edge_from(c), d = mesh.edge_to(c), e = mesh.vertex(oc);
+  const Vec3 &pa = mesh.position(a), &pb = mesh.position(b), &pd = mesh.position(d), &pe = mesh.position(e);
+  const Vec3 n1 = normalized(raw_normal(pa, pb, pd)), n2 = normalized(raw_normal(pe, pd, pb));
+  const Vec3 navg = normalized(n1 + n2);
+  for (const auto& t : {std::array<Vec3, 3>{pa, pb, pe}, std::array<Vec3, 3>{pe, pd, pa}}) {
+    const Rejection r = check_triangle(t[0], t[1], t[2], navg, Vec3(), o);
+    if (r != Rejection::None) {
+      plan.why = r;
+      return plan;
+    }
+  }
+  const Vec3 m1 = normalized(raw_normal(pa, pb, pe)), m2 = normalized(raw_normal(pe, pd, pa));
+  if (dot(m1, m2) < std::min(dot(n1, n2), cos_deg(0.5 * o.max_normal_turn_deg))) {
+    plan.why = Rejection::Normal;
+    return plan;
+  }
+  const SymTensor3 &Ma = m.metric(a), &Mb = m.metric(b), &Md = m.metric(d), &Me = m.metric(e);
+  plan.quality_before = std::min(m.quality({pa, pb, pd}, {Ma, Mb, Md}), m.quality({pe, pd, pb}, {Me, Md, Mb}));
+  plan.quality_after = std::min(m.quality({pa, pb, pe}, {Ma, Mb, Me}), m.quality({pe, pd, pa}, {Me, Md, Ma}));
+  if (!(plan.quality_after > o.swap_gain * plan.quality_before)) plan.why = Rejection::Quality;
+  return plan;
+}
+
+Corner swap(AdaptedMesh& m, Corner c) { return flip(m.mesh(), c); }
+
+// --- move ---------------------------------------------------------------------
+
+MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
+  const SurfaceMesh& mesh = m.mesh();
+  MovePlan plan;
+  const VertexKind kind = m.kind(v);
+  if (kind == VertexKind::Fixed) {
+    plan.why = Rejection::Fixed;
+    return plan;
+  }
+  std::vector<Vertex> nbrs;
+  if (kind == VertexKind::Curve) {
+    for (const FeatureEdgeAt& f : feature_edges_at(mesh, v)) nbrs.push_back(f.other);
+  } else {
+    nbrs = one_ring(mesh, v);
+  }
+  const Vec3 s = mesh.position(v);
+  const SymTensor3 Mi_inv = inverse(m.metric(v));
+  // Eq. 19 with the edge metrics M_j = ((M_s^-1 + M_j^-1) / 2)^-1.
+  SymTensor3 A{};
+  Vec3 rhs;
+  double shortest = INFINITY;
+  for (Vertex w : one_ring(mesh, v)) shortest = std::min(shortest, norm(mesh.position(w) - s));
+  for (Vertex w : nbrs) {
+    const SymTensor3 Mj = inverse(0.5 * (Mi_inv + inverse(m.metric(w))));
+    A += Mj;
+    rhs += Mj * mesh.position(w);
+  }
+  if (!(det(A) > 0)) {
+    plan.why = Rejection::NoGain;
+    return plan;
+  }
+  const Vec3 p0 = inverse(A) * rhs;
+  Vec3 dx = o.omega * (p0 - s);
+  const double dmax = o.max_move * shortest;
+  if (norm(dx) > dmax) dx *= dmax / norm(dx);
+  if (!(norm(dx) > 1e-6 * shortest)) {
+    plan.why = Rejection::NoGain;
+    return plan;
+  }
+
+  const std::vector<Corner> fan = mesh.fan(v);
+  std::vector<Vec3> old_n;
+  plan.quality_before = 1;
+  for (Corner x : fan) {
+    old_n.push_back(unit_normal(mesh, M::triangle(x)));
+    plan.quality_before = std::min(plan.quality_before, m.quality(M::triangle(x)));
+  }
+  Rejection last = Rejection::NoGain;
+  for (int k = 0; k < o.move_backtracks; ++k, dx *= 0.5) {
+    ++plan.tries;
+    const Placement at = m.place(s + dx, kind, {v});
+    const Vec3 sn = kind == VertexKind::Free ? at.normal : Vec3();
+    double q = 1;
+    last = Rejection::None;
+    for (std::size_t i = 0; i < fan.size() && last == Rejection::None; ++i) {
+      const TriangleView tv = view(m, M::triangle(fan[i]), v, Vertex(), at);
+      last = check_triangle(tv.x[0], tv.x[1], tv.x[2], old_n[i], sn, o);
+      q = std::min(q, m.quality(tv.x, tv.M));
+    }
+    if (last != Rejection::None) continue;
+    if (!(q >= o.move_quality_factor * plan.quality_before) || q <= 0) {
+      last = Rejection::Quality;
+      continue;
+    }
+    plan.why = Rejection::None;
+    plan.at = at;
+    plan.quality_after = q;
+    return plan;
+  }
+  plan.why = last;
+  return plan;
+}
+
+void move(AdaptedMesh& m, Vertex v, const MovePlan& plan) { m.commit(v, plan.at); }
+
+}  // namespace anisurf::remesh

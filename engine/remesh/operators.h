@@ -1,0 +1,131 @@
+// The local operators of the report's section 5 on T_1, each a check `can_X`
+// (topology from mesh/operators.h plus the geometric and metric filters; it
+// returns the decision and the placements it computed) and an action `X`
+// (applies a decision, then calls the data-transfer hook for the vertices it
+// created or moved). An edge is named by a corner as in mesh/operators.h.
+#pragma once
+#include <array>
+#include <string_view>
+#include <vector>
+
+#include "remesh/adapted_mesh.h"
+
+namespace anisurf::remesh {
+
+// Why an operator was refused (the filters, in the order they are tried).
+enum class Rejection : int {
+  None = 0,
+  Topology,     // mesh/operators.h refused (link condition, boundary, existing diagonal ...)
+  Fixed,        // a fixed (corner, required) vertex would be removed or moved
+  Feature,      // a feature edge would be swapped, or a curve vertex left its curve
+  Tangent,      // collapse along a curve: the curve would turn too much
+  Inversion,    // a triangle would be inverted or degenerate
+  Normal,       // a triangle normal would turn too far (from its old normal or the surface)
+  Quality,      // eq. 17 quality: worse than the threshold and than before
+  LongEdge,     // a collapse would create an edge longer than lmax
+  Cache,        // undoes one of the last modifications (Remark 5)
+  NoGain,       // move: the vertex is already at its optimum
+  kCount
+};
+std::string_view rejection_name(Rejection r);
+
+// Thresholds of the filters. Defaults: the report's lmin / lmax; the angles
+// are this implementation's choices (the report says "significantly changed").
+struct OperatorOptions {
+  double lmax = 1.4;  // section 6: edges longer are split
+  double lmin = 0.6;  // section 6: edges shorter are collapsed
+  // Largest angle between a new triangle's normal and the normal of the
+  // triangle it replaces (split, collapse, swap, move).
+  double max_normal_turn_deg = 45.0;
+  // Largest angle between a new triangle's normal and the surface normal at
+  // a free vertex it was placed at.
+  double max_surface_angle_deg = 60.0;
+  // Collapse along a curve: largest angle between the new curve segment and
+  // each of the two segments it replaces (section 5.1, "tangent vectors").
+  double max_curve_turn_deg = 25.0;
+  // Collapse: the worst new quality must be at least the worst old quality
+  // or this threshold (section 5.1's metric check).
+  double collapse_quality = 0.3;
+  // Swap: the new worst quality must exceed the old one by this factor (eq. 17, section 5.4).
+  double swap_gain = 1.0 + 1e-6;
+  // Move (section 5.5): relaxation omega of the displacement toward eq. 19,
+  // its bound relative to the shortest incident edge, and the number of
+  // halvings tried ("about 8-10").
+  double omega = 0.6;
+  double max_move = 0.5;
+  int move_backtracks = 8;
+  // Move: accept when the worst new quality is at least this factor times
+  // the worst old one (1: the report's "greater than"; below 1: Remark 4's
+  // relaxed first passes).
+  double move_quality_factor = 1.0;
+};
+
+// --- edge split (section 5.3) -------------------------------------------------
+struct SplitPlan {
+  Rejection why = Rejection::None;
+  Placement at;            // the new vertex
+  VertexKind kind = VertexKind::Free;
+  bool projected = true;   // false: the projection was refused, the straight midpoint is used
+};
+// New vertex at the projection of the midpoint (onto the feature curve for a
+// feature edge). Refused when a new triangle would be inverted or turned
+// too far with respect to the triangle it halves, at the projection and at
+// the straight midpoint.
+SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o);
+// Pre: can_split(...).why == None. Returns the new vertex (tagged kRidge on a ridge edge).
+Vertex split(AdaptedMesh& m, Corner c, const SplitPlan& plan);
+
+// --- edge collapse (section 5.1) ----------------------------------------------
+struct CollapsePlan {
+  Rejection why = Rejection::None;
+  Corner edge;        // the corner naming the edge with the removed vertex as edge_from
+  Vertex removed, kept;
+  Placement at;       // the kept vertex's new placement
+  bool moves = false; // the kept vertex moves (to the projection of the midpoint)
+};
+// Chooses the removed vertex (section 5.1: never a fixed one, a curve vertex
+// only along its curve, an interior one before a curve one; two similar ones:
+// the kept one moves to the projection of the midpoint, else stays), then
+// checks the topology, the curve tangents, inversion and normals, the new
+// edge lengths (<= lmax) and the quality. Tries the alternatives in turn and
+// returns the first that passes, or the last refusal.
+CollapsePlan can_collapse(AdaptedMesh& m, Corner c, const OperatorOptions& o);
+// Pre: plan.why == None. Returns the kept vertex.
+Vertex collapse(AdaptedMesh& m, const CollapsePlan& plan);
+// Vertex suppression (section 5.2): removes v by collapsing one of its edges
+// (along its curve for a curve vertex), the shortest in the metric first;
+// the other end stays. Same filters as can_collapse.
+CollapsePlan can_remove_vertex(AdaptedMesh& m, Vertex v, const OperatorOptions& o);
+
+// --- edge swap (section 5.4) --------------------------------------------------
+struct SwapPlan {
+  Rejection why = Rejection::None;
+  double quality_before = 0, quality_after = 0;  // min c_K of the two triangles
+};
+// Interior non-feature edges only; refused when a new triangle turns too far
+// from the old pair or the pair folds more than before, or when the worst
+// quality (eq. 17) does not improve.
+SwapPlan can_swap(const AdaptedMesh& m, Corner c, const OperatorOptions& o);
+// Pre: plan.why == None. Returns the corner of the new diagonal.
+Corner swap(AdaptedMesh& m, Corner c);
+
+// --- vertex move (section 5.5) ------------------------------------------------
+struct MovePlan {
+  Rejection why = Rejection::None;
+  Placement at;
+  double quality_before = 0, quality_after = 0;  // min c_K of the fan
+  int tries = 0;
+};
+// Target p0 of eq. 19 (metric-weighted barycentre of the neighbours; of the
+// two curve neighbours for a curve vertex), displacement omega (p0 - s)
+// bounded by max_move times the shortest incident edge, projected onto the
+// surface (the curve), halved until no triangle inverts and the worst
+// quality is not lower than before (times move_quality_factor).
+MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o);
+// Pre: plan.why == None.
+void move(AdaptedMesh& m, Vertex v, const MovePlan& plan);
+
+// Corner naming the edge a-b (either direction), or invalid.
+Corner find_edge_corner(const SurfaceMesh& mesh, Vertex a, Vertex b);
+
+}  // namespace anisurf::remesh

@@ -1,0 +1,86 @@
+#include "remesh/reference.h"
+
+#include <cassert>
+
+#include "geometry/normals.h"
+
+namespace anisurf::remesh {
+
+namespace {
+
+Vec3 unit_triangle_normal(const SurfaceMesh& mesh, Triangle t) { return normalized(mesh.triangle_normal(t)); }
+
+}  // namespace
+
+PolyhedralSurface::PolyhedralSurface(const SurfaceMesh& mesh) : locator_(mesh) {}
+
+Projection PolyhedralSurface::project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) {
+  Projection p;
+  p.location = locator_.project(x, hints, constraint);
+  p.point = p.location.is_valid() ? p.location.point : x;
+  p.normal = p.location.is_valid() ? unit_triangle_normal(locator_.mesh(), p.location.triangle) : Vec3();
+  return p;
+}
+
+BezierGeometry::BezierGeometry(const SurfaceMesh& mesh)
+    : locator_(mesh), surface_(mesh, compute_frames(mesh)) {}
+
+Projection BezierGeometry::project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) {
+  Projection p;
+  p.location = locator_.project(x, hints, constraint);
+  if (!p.location.is_valid()) {
+    p.point = x;
+    return p;
+  }
+  if (p.location.constraint == Constraint::Fixed) {
+    // A corner is a vertex of T_G: the surface interpolates it.
+    p.point = p.location.point;
+    p.normal = unit_triangle_normal(locator_.mesh(), p.location.triangle);
+    return p;
+  }
+  const SurfacePoint s = surface_.evaluate(p.location.triangle, p.location.bary);
+  p.point = s.position;
+  p.normal = s.normal;
+  return p;
+}
+
+ControlSpace::ControlSpace(const SurfaceMesh& mesh, MetricField metric, bool same_as_geometry,
+                           MetricInterpolation interpolation, const std::string& metric_field_name)
+    : mesh_(mesh), metric_(std::move(metric)), interpolation_(interpolation) {
+  assert(static_cast<int>(metric_.size()) >= mesh.vertex_capacity());
+  if (!same_as_geometry) locator_ = std::make_unique<Locator>(mesh);
+  for (const FieldInfo& f : mesh.fields()) {
+    if (f.name == metric_field_name) continue;
+    infos_.push_back(f);
+    fields_.push_back(mesh.get_field(f.name));
+  }
+}
+
+Location ControlSpace::locate(const Vec3& x, Hint hint, const Location& on_geometry) {
+  if (!locator_) return on_geometry;
+  return locator_->project(x, hint, Constraint::Free);
+}
+
+SymTensor3 ControlSpace::metric_at(const Location& where) const {
+  const Triangle t = where.triangle;
+  const std::array<SymTensor3, 3> M = {metric_[mesh_.vertex(t, 0).idx], metric_[mesh_.vertex(t, 1).idx],
+                                       metric_[mesh_.vertex(t, 2).idx]};
+  return interpolate_metric(M, where.bary, interpolation_);
+}
+
+ControlValues ControlSpace::values_at(const Location& where) const {
+  ControlValues out;
+  out.metric = metric_at(where);
+  out.fields.resize(fields_.size());
+  for (std::size_t f = 0; f < fields_.size(); ++f) {
+    FieldValue v{};
+    for (int k = 0; k < 3; ++k) {
+      const FieldValue& a = fields_[f][mesh_.vertex(where.triangle, k)];
+      for (int i = 0; i < 6; ++i) v[i] += where.bary[k] * a[i];
+    }
+    out.fields[f] = v;
+  }
+  return out;
+}
+
+}  // namespace anisurf::remesh

@@ -1,0 +1,113 @@
+// The two fixed meshes of the report's section 6 seen from the mesh being
+// adapted (T_1):
+//  - T_G, the geometry: every new or moved vertex of T_1 is projected onto
+//    it (GeometrySurface: the polyhedral mesh itself, or the G1 Bezier
+//    surface of section 3 evaluated at the polyhedral projection's
+//    parameters);
+//  - T_0, the control space: the metric (and an optional solution) given at
+//    its vertices, interpolated at the location of a T_1 vertex in T_0
+//    (ControlSpace), never from the moving mesh.
+// Both keep one search structure each (section 4) and answer from hints.
+#pragma once
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "geometry/bezier_surface.h"
+#include "locate/locator.h"
+#include "metric/length.h"
+#include "metric/metric_field.h"
+
+namespace anisurf::remesh {
+
+// A point projected onto the geometry: the point on the surface, its
+// location on the polyhedral T_G (triangle, barycentric coordinates: the
+// hint of the next search) and the unit surface normal there.
+struct Projection {
+  Vec3 point;
+  Location location;
+  Vec3 normal;
+};
+
+// The surface T_1 is kept on. One implementation change swaps the polyhedral
+// surface for the G1 one.
+class GeometrySurface {
+ public:
+  virtual ~GeometrySurface() = default;
+  // Closest point of the surface to x under the constraint (section 4.2),
+  // searched from the hints. Not const: searches use scratch marks.
+  virtual Projection project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) = 0;
+  // The polyhedral mesh T_G (tags: features, corners).
+  virtual const SurfaceMesh& mesh() const = 0;
+  virtual std::string name() const = 0;
+};
+
+// T_G as it is: projection onto the triangles (locate/locator.h).
+class PolyhedralSurface final : public GeometrySurface {
+ public:
+  // Pre: `mesh` has its features tagged and outlives the surface.
+  explicit PolyhedralSurface(const SurfaceMesh& mesh);
+  Projection project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) override;
+  const SurfaceMesh& mesh() const override { return locator_.mesh(); }
+  std::string name() const override { return "polyhedral"; }
+
+ private:
+  Locator locator_;
+};
+
+// The G1 Bezier surface over T_G (geometry/bezier_surface.h, report section
+// 3): x is located on the polyhedral T_G, then the patch of that triangle is
+// evaluated at the same barycentric coordinates.
+class BezierGeometry final : public GeometrySurface {
+ public:
+  // Pre: `mesh` has its features tagged and outlives the surface.
+  explicit BezierGeometry(const SurfaceMesh& mesh);
+  Projection project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) override;
+  const SurfaceMesh& mesh() const override { return locator_.mesh(); }
+  std::string name() const override { return "g1-bezier"; }
+
+ private:
+  Locator locator_;
+  BezierSurface surface_;
+};
+
+// What T_0 gives at a point of T_1: the metric and the solution values.
+struct ControlValues {
+  SymTensor3 metric;
+  std::vector<FieldValue> fields;  // one per ControlSpace::field_infos()
+};
+
+// T_0: a mesh with one metric per vertex slot and optional solution fields
+// (every field of the mesh whose name differs from `metric_field_name`).
+class ControlSpace {
+ public:
+  // `same_as_geometry`: T_0 is the very mesh of T_G, so the location found on
+  // T_G is the location on T_0 (no second search). Pre: one SPD metric per
+  // vertex slot of `mesh`; the mesh outlives the control space.
+  ControlSpace(const SurfaceMesh& mesh, MetricField metric, bool same_as_geometry,
+               MetricInterpolation interpolation = MetricInterpolation::Linear,
+               const std::string& metric_field_name = "metric");
+
+  // Location of x in T_0, from a hint; `on_geometry` is x's location on T_G,
+  // used as is when T_0 is T_G.
+  Location locate(const Vec3& x, Hint hint, const Location& on_geometry);
+  // Metric and solution interpolated at a location of T_0.
+  ControlValues values_at(const Location& where) const;
+  SymTensor3 metric_at(const Location& where) const;
+
+  const SurfaceMesh& mesh() const { return mesh_; }
+  const MetricField& metric() const { return metric_; }
+  const std::vector<FieldInfo>& field_infos() const { return infos_; }
+  bool same_as_geometry() const { return !locator_; }
+
+ private:
+  const SurfaceMesh& mesh_;
+  MetricField metric_;
+  MetricInterpolation interpolation_;
+  std::unique_ptr<Locator> locator_;  // null when T_0 is T_G
+  std::vector<FieldInfo> infos_;
+  std::vector<Property<FieldValue>> fields_;
+};
+
+}  // namespace anisurf::remesh

@@ -1,0 +1,330 @@
+#include "remesh/remesher.h"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+
+#include "geometry/features.h"
+#include "mesh/operators.h"
+
+namespace anisurf::remesh {
+
+namespace {
+
+using M = SurfaceMesh;
+using Clock = std::chrono::steady_clock;
+
+struct EdgeItem {
+  double length;
+  int a, b;
+};
+struct Longer {
+  bool operator()(const EdgeItem& x, const EdgeItem& y) const { return x.length < y.length; }
+};
+struct Shorter {
+  bool operator()(const EdgeItem& x, const EdgeItem& y) const { return x.length > y.length; }
+};
+
+std::array<int, 2> key(Vertex a, Vertex b) { return a.idx < b.idx ? std::array{a.idx, b.idx} : std::array{b.idx, a.idx}; }
+
+// Calls f(corner) once per live edge.
+template <class F>
+void for_each_edge(const SurfaceMesh& mesh, F&& f) {
+  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
+    if (mesh.is_deleted(Triangle(t))) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Corner c = M::corner(Triangle(t), k);
+      if (mesh.canonical(c) == c) f(c);
+    }
+  }
+}
+
+// The edges of the triangles around v that are opposite v.
+std::vector<std::array<int, 2>> link_edges(const SurfaceMesh& mesh, Vertex v) {
+  std::vector<std::array<int, 2>> out;
+  for (Corner c : mesh.fan(v)) out.push_back({mesh.vertex(M::next(c)).idx, mesh.vertex(M::prev(c)).idx});
+  return out;
+}
+
+}  // namespace
+
+std::string_view pass_name(PassKind k) {
+  switch (k) {
+    case PassKind::Split: return "split";
+    case PassKind::Collapse: return "collapse";
+    case PassKind::Swap: return "swap";
+    case PassKind::Smooth: return "smooth";
+    case PassKind::Final: return "final";
+  }
+  return "?";
+}
+
+Remesher::Remesher(AdaptedMesh& mesh, const RemeshOptions& options) : mesh_(mesh), options_(options) {}
+
+void Remesher::remember(PassKind kind, Vertex v) {
+  if (options_.cache_size <= 0) return;
+  Modification mod{kind, {}};
+  for (Vertex w : one_ring(mesh_.mesh(), v)) mod.created.push_back(key(v, w));
+  cache_.push_back(std::move(mod));
+  while (static_cast<int>(cache_.size()) > options_.cache_size) cache_.pop_front();
+}
+
+bool Remesher::in_cache(Vertex a, Vertex b, PassKind undoing) const {
+  const auto k = key(a, b);
+  for (const Modification& m : cache_) {
+    if (m.kind == undoing) continue;
+    for (const auto& e : m.created)
+      if (e == k) return true;
+  }
+  return false;
+}
+
+int Remesher::local_swaps(Vertex v, PassReport& r) {
+  if (!options_.local_swaps) return 0;
+  SurfaceMesh& mesh = mesh_.mesh();
+  int n = 0;
+  // Each improving swap replaces a link edge by a spoke of v: the loop ends
+  // within the valence.
+  for (int round = 0; round < 4; ++round) {
+    bool changed = false;
+    for (const auto& e : link_edges(mesh, v)) {
+      const Corner c = find_edge_corner(mesh, Vertex(e[0]), Vertex(e[1]));
+      if (!c.is_valid()) continue;
+      const SwapPlan plan = can_swap(mesh_, c, options_.op);
+      if (plan.why != Rejection::None) continue;
+      swap(mesh_, c);
+      ++n;
+      ++r.swaps;
+      changed = true;
+    }
+    if (!changed) break;
+  }
+  return n;
+}
+
+void Remesher::split_pass(PassReport& r) {
+  SurfaceMesh& mesh = mesh_.mesh();
+  const OperatorOptions& o = options_.op;
+  std::priority_queue<EdgeItem, std::vector<EdgeItem>, Longer> heap;
+  for_each_edge(mesh, [&](Corner c) {
+    const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
+    const double l = mesh_.length(a, b);
+    if (l > o.lmax) heap.push({l, a.idx, b.idx});
+  });
+  long long budget = 20LL * mesh.n_triangles() + 1000;
+  while (!heap.empty() && budget-- > 0) {
+    const EdgeItem it = heap.top();
+    heap.pop();
+    const Vertex a(it.a), b(it.b);
+    const Corner c = find_edge_corner(mesh, a, b);
+    if (!c.is_valid()) continue;
+    if (mesh_.length(a, b) <= o.lmax) continue;
+    if (in_cache(a, b, PassKind::Split)) {
+      ++r.rejected[static_cast<int>(Rejection::Cache)];
+      continue;
+    }
+    const SplitPlan plan = can_split(mesh_, c, o);
+    if (plan.why != Rejection::None) {
+      ++r.rejected[static_cast<int>(plan.why)];
+      continue;
+    }
+    const Vertex v = split(mesh_, c, plan);
+    ++r.splits;
+    if (!plan.projected) ++r.split_unprojected;
+    r.touched.push_back(v.idx);
+    remember(PassKind::Split, v);
+    local_swaps(v, r);
+    for (Vertex w : one_ring(mesh, v)) {
+      const double l = mesh_.length(v, w);
+      if (l > o.lmax) heap.push({l, v.idx, w.idx});
+    }
+  }
+}
+
+void Remesher::collapse_pass(PassReport& r) {
+  SurfaceMesh& mesh = mesh_.mesh();
+  const OperatorOptions& o = options_.op;
+  std::priority_queue<EdgeItem, std::vector<EdgeItem>, Shorter> heap;
+  for_each_edge(mesh, [&](Corner c) {
+    const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
+    const double l = mesh_.length(a, b);
+    if (l < o.lmin) heap.push({l, a.idx, b.idx});
+  });
+  long long budget = 20LL * mesh.n_triangles() + 1000;
+  while (!heap.empty() && budget-- > 0) {
+    const EdgeItem it = heap.top();
+    heap.pop();
+    const Vertex a(it.a), b(it.b);
+    const Corner c = find_edge_corner(mesh, a, b);
+    if (!c.is_valid()) continue;
+    if (mesh_.length(a, b) >= o.lmin) continue;
+    if (in_cache(a, b, PassKind::Collapse)) {
+      ++r.rejected[static_cast<int>(Rejection::Cache)];
+      continue;
+    }
+    const CollapsePlan plan = can_collapse(mesh_, c, o);
+    if (plan.why != Rejection::None) {
+      ++r.rejected[static_cast<int>(plan.why)];
+      continue;
+    }
+    const Vertex v = collapse(mesh_, plan);
+    ++r.collapses;
+    r.touched.push_back(v.idx);
+    remember(PassKind::Collapse, v);
+    local_swaps(v, r);
+    for (Vertex w : one_ring(mesh, v)) {
+      const double l = mesh_.length(v, w);
+      if (l < o.lmin) heap.push({l, v.idx, w.idx});
+    }
+  }
+}
+
+void Remesher::swap_pass(PassReport& r) {
+  SurfaceMesh& mesh = mesh_.mesh();
+  std::deque<std::array<int, 2>> queue;
+  for_each_edge(mesh, [&](Corner c) {
+    if (!mesh.is_boundary_edge(c)) queue.push_back({mesh.edge_from(c).idx, mesh.edge_to(c).idx});
+  });
+  long long budget = static_cast<long long>(options_.max_swap_sweeps) * static_cast<long long>(queue.size()) + 16;
+  while (!queue.empty() && budget-- > 0) {
+    const auto e = queue.front();
+    queue.pop_front();
+    const Corner c = find_edge_corner(mesh, Vertex(e[0]), Vertex(e[1]));
+    if (!c.is_valid()) continue;
+    const SwapPlan plan = can_swap(mesh_, c, options_.op);
+    if (plan.why != Rejection::None) {
+      if (plan.why != Rejection::Feature) ++r.rejected[static_cast<int>(plan.why)];
+      continue;
+    }
+    const Corner d = swap(mesh_, c);
+    ++r.swaps;
+    // Section 5.4: the four edges around the new diagonal are tried again.
+    const Corner od = mesh.opposite(d);
+    for (Corner x : {M::next(d), M::prev(d), M::next(od), M::prev(od)})
+      queue.push_back({mesh.edge_from(x).idx, mesh.edge_to(x).idx});
+    r.touched.push_back(mesh.edge_from(d).idx);
+    r.touched.push_back(mesh.edge_to(d).idx);
+  }
+}
+
+void Remesher::smooth_pass(PassReport& r) {
+  SurfaceMesh& mesh = mesh_.mesh();
+  OperatorOptions o = options_.op;
+  if (smoothing_done_ < options_.relaxed_smoothing_passes) o.move_quality_factor = options_.relaxed_quality_factor;
+  for (int i = 0; i < mesh.vertex_capacity(); ++i) {
+    const Vertex v(i);
+    if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+    const MovePlan plan = can_move(mesh_, v, o);
+    if (plan.why != Rejection::None) {
+      if (plan.why != Rejection::Fixed && plan.why != Rejection::NoGain) ++r.rejected[static_cast<int>(plan.why)];
+      continue;
+    }
+    move(mesh_, v, plan);
+    ++r.moves;
+    r.touched.push_back(i);
+  }
+  ++smoothing_done_;
+}
+
+void Remesher::final_pass(PassReport& r) {
+  SurfaceMesh& mesh = mesh_.mesh();
+  // Section 6, final optimisation 1: interior vertices of valence < 4.
+  OperatorOptions o = options_.op;
+  o.lmax = INFINITY;  // the remaining edges exist already
+  for (int i = 0; i < mesh.vertex_capacity(); ++i) {
+    const Vertex v(i);
+    if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+    if (mesh_.kind(v) != VertexKind::Free || mesh.valence(v) >= 4) continue;
+    const CollapsePlan plan = can_remove_vertex(mesh_, v, o);
+    if (plan.why != Rejection::None) {
+      ++r.rejected[static_cast<int>(plan.why)];
+      continue;
+    }
+    const Vertex k = collapse(mesh_, plan);
+    ++r.removed_vertices;
+    r.touched.push_back(k.idx);
+    local_swaps(k, r);
+  }
+  // 2: the vertices are barycentred (section 5.5) 8-10 times.
+  for (int p = 0; p < options_.final_smoothing_passes; ++p) {
+    const int before = r.moves;
+    smooth_pass(r);
+    if (r.moves == before) break;
+  }
+}
+
+void Remesher::fill_state(PassReport& r) const {
+  const SurfaceMesh& mesh = mesh_.mesh();
+  r.vertices = mesh.n_vertices();
+  r.triangles = mesh.n_triangles();
+  r.edges = 0;
+  r.histogram.fill(0);
+  r.length_min = INFINITY;
+  r.length_max = 0;
+  int in_band = 0;
+  for_each_edge(mesh, [&](Corner c) {
+    const double l = mesh_.length(mesh.edge_from(c), mesh.edge_to(c));
+    ++r.edges;
+    r.length_min = std::min(r.length_min, l);
+    r.length_max = std::max(r.length_max, l);
+    std::size_t bin = 0;
+    while (bin + 1 < kLengthBins.size() && l >= kLengthBins[bin]) ++bin;
+    ++r.histogram[bin];
+    if (l >= kLengthBins[2] && l <= kLengthBins[5]) ++in_band;
+  });
+  r.in_band_share = r.edges ? static_cast<double>(in_band) / r.edges : 0.0;
+  r.q_min = 1;
+  double sum = 0;
+  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
+    if (mesh.is_deleted(Triangle(t))) continue;
+    const double q = mesh_.quality(Triangle(t));
+    r.q_min = std::min(r.q_min, q);
+    sum += q;
+  }
+  r.q_mean = r.triangles ? sum / r.triangles : 0.0;
+}
+
+PassReport Remesher::measure() const {
+  PassReport r;
+  r.iteration = iteration_;
+  fill_state(r);
+  return r;
+}
+
+PassReport Remesher::step(PassKind kind) {
+  const auto t0 = Clock::now();
+  PassReport r;
+  r.kind = kind;
+  r.iteration = iteration_;
+  switch (kind) {
+    case PassKind::Split: split_pass(r); break;
+    case PassKind::Collapse: collapse_pass(r); break;
+    case PassKind::Swap: swap_pass(r); break;
+    case PassKind::Smooth: smooth_pass(r); break;
+    case PassKind::Final: final_pass(r); break;
+  }
+  r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  fill_state(r);
+  return r;
+}
+
+std::vector<PassReport> Remesher::run(const std::function<void(const PassReport&)>& progress) {
+  std::vector<PassReport> out;
+  auto record = [&](PassReport r) {
+    if (progress) progress(r);
+    out.push_back(std::move(r));
+    return out.back().changes();
+  };
+  if (options_.initial_swaps) record(step(PassKind::Swap));
+  for (iteration_ = 1; iteration_ <= options_.max_iterations; ++iteration_) {
+    const int s = record(step(PassKind::Split));
+    const int c = record(step(PassKind::Collapse));
+    record(step(PassKind::Swap));
+    for (int p = 0; p < options_.smoothing_passes; ++p) record(step(PassKind::Smooth));
+    if (s + c == 0) break;
+  }
+  record(step(PassKind::Final));
+  return out;
+}
+
+}  // namespace anisurf::remesh

@@ -1,0 +1,107 @@
+// The remeshing loop of the report's section 6 on top of the local operators
+// of section 5: splits of edges longer than lmax (longest first), collapses of
+// edges shorter than lmin (shortest first), each followed by local swaps
+// around the modified vertex, global swap passes, smoothing passes (eq. 19),
+// a cache of the last modifications against cycles (Remark 5), and the final
+// optimisation (interior vertices of valence < 4 removed, 8-10 smoothing
+// passes).
+//
+//   Remesher r(adapted_mesh);
+//   PassReport s = r.step(PassKind::Split);   // one named pass
+//   std::vector<PassReport> all = r.run();    // until nothing changes
+#pragma once
+#include <array>
+#include <chrono>
+#include <deque>
+#include <functional>
+#include <string_view>
+#include <vector>
+
+#include "metric/mesh_quality.h"
+#include "remesh/operators.h"
+
+namespace anisurf::remesh {
+
+struct RemeshOptions {
+  OperatorOptions op;                // lmax 1.4, lmin 0.6 and the filters
+  int max_iterations = 30;           // rounds of split, collapse, swap, smooth in run()
+  int smoothing_passes = 2;          // smoothing passes per round
+  int final_smoothing_passes = 10;   // section 6's final optimisation: "about 8-10"
+  int cache_size = 10;               // Remark 5: the last 10 modifications
+  int relaxed_smoothing_passes = 4;  // Remark 4: the first passes accept a slightly worse quality
+  double relaxed_quality_factor = 0.9;
+  bool initial_swaps = true;         // section 6: an initial swap pass improves the result
+  bool local_swaps = true;           // section 6, step 2: swaps around each split / collapse
+  int max_swap_sweeps = 8;           // a swap pass stops after this many visits per edge
+};
+
+enum class PassKind { Split, Collapse, Swap, Smooth, Final };
+std::string_view pass_name(PassKind k);
+
+inline constexpr int kRejectionCount = static_cast<int>(Rejection::kCount);
+
+// What one pass did.
+struct PassReport {
+  PassKind kind = PassKind::Split;
+  int iteration = 0;
+  int splits = 0, collapses = 0, swaps = 0, moves = 0;
+  int removed_vertices = 0;  // final pass: interior vertices of valence < 4
+  int split_unprojected = 0;  // splits at the straight midpoint (projection refused)
+  // Refusals per filter (indexed by Rejection), all operators together.
+  std::array<int, kRejectionCount> rejected{};
+  // State after the pass: sizes, edge lengths in the metric (bins of
+  // kLengthBins: 0, 0.3, 0.6, 0.71, 0.9, 1.3, 1.41, 2, 5), quality eq. 17.
+  int vertices = 0, triangles = 0, edges = 0;
+  std::array<int, kLengthBins.size()> histogram{};
+  double in_band_share = 0;
+  double length_min = 0, length_max = 0;
+  double q_min = 0, q_mean = 0;
+  double seconds = 0;
+  // Vertex slots created, kept or moved by the pass (the elements it touched).
+  std::vector<int> touched;
+  int changes() const { return splits + collapses + swaps + moves + removed_vertices; }
+};
+
+class Remesher {
+ public:
+  // The adapted mesh must outlive the remesher.
+  explicit Remesher(AdaptedMesh& mesh, const RemeshOptions& options = {});
+
+  // One named pass; returns what it did and the state after it.
+  PassReport step(PassKind kind);
+  // Initial swaps, then rounds of split, collapse, swap and smoothing until a
+  // round neither splits nor collapses (or max_iterations), then the final
+  // optimisation. `progress` is called after each pass.
+  std::vector<PassReport> run(const std::function<void(const PassReport&)>& progress = {});
+
+  // The state of the mesh now (histogram, quality) without changing it.
+  PassReport measure() const;
+  const RemeshOptions& options() const { return options_; }
+  AdaptedMesh& adapted() { return mesh_; }
+
+ private:
+  struct Modification {
+    PassKind kind;
+    std::vector<std::array<int, 2>> created;  // edges created (sorted vertex pairs)
+  };
+  void split_pass(PassReport& r);
+  void collapse_pass(PassReport& r);
+  void swap_pass(PassReport& r);
+  void smooth_pass(PassReport& r);
+  void final_pass(PassReport& r);
+  // Swaps around v (its link edges) while they improve; returns the count.
+  int local_swaps(Vertex v, PassReport& r);
+  void remember(PassKind kind, Vertex v);
+  // True if edge a-b was created by a modification of another kind among the
+  // last cache_size ones (undoing it could cycle).
+  bool in_cache(Vertex a, Vertex b, PassKind undoing) const;
+  void fill_state(PassReport& r) const;
+
+  AdaptedMesh& mesh_;
+  RemeshOptions options_;
+  std::deque<Modification> cache_;
+  int smoothing_done_ = 0;
+  int iteration_ = 0;
+};
+
+}  // namespace anisurf::remesh
