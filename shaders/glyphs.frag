@@ -9,7 +9,7 @@ void main() {
   float outline = 1.0 - smoothstep(0.6, 1.4, abs(r - 1.0) / w);  // ~1.5 px ring
   float inside = 1.0 - smoothstep(1.0 - w, 1.0, r);
   vec3 color = mix(u_color, u_color * 0.35, outline);
-  float alpha = max(outline, 0.38 * inside);
+  float alpha = max(outline, 0.32 * inside);
   if (alpha <= 0.0) discard;
   o_color = vec4(color, alpha);
 }

@@ -69,6 +69,11 @@ glm::mat4 Camera::view() const {
 }
 
 glm::mat4 Camera::projection(float aspect) const {
+  const glm::mat4 shift = glm::translate(glm::mat4(1.0f), glm::vec3(shift_x, 0.0f, 0.0f));
+  return shift * centred_projection(aspect);
+}
+
+glm::mat4 Camera::centred_projection(float aspect) const {
   // Near / far enclose the scene's bounding sphere around the target (the
   // target stays near the scene centre: pan moves it in the view plane).
   float reach = scene_radius * 2.0f + glm::length(target) * 1e-6f;
@@ -113,8 +118,13 @@ void Camera::set_view(NamedView v) {
   }
 }
 
-void Camera::fit(std::span<const glm::vec3> points, float aspect, float margin) {
+void Camera::fit(std::span<const glm::vec3> points, float aspect, float margin, float reserve_left,
+                 float reserve_right) {
   if (points.empty()) return;
+  reserve_left = std::clamp(reserve_left, 0.0f, 0.45f);
+  reserve_right = std::clamp(reserve_right, 0.0f, 0.45f);
+  shift_x = reserve_left - reserve_right;
+  aspect *= 1.0f - reserve_left - reserve_right;  // the free part of the view
   glm::vec3 r = right(), u = up(), f = forward();
   // Extents in the camera axes.
   glm::vec3 lo(INFINITY), hi(-INFINITY);

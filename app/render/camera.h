@@ -33,6 +33,10 @@ class Camera {
   bool orthographic = false;
   UpAxis up_axis = UpAxis::Y;
   float scene_radius = 1.0f;   // bounding radius of the scene (near/far planes)
+  // Horizontal shift of the picture in normalised device units (off-axis
+  // projection): l - r centres the view between a strip l of the width on
+  // the left (the panel) and r on the right (the legend).
+  float shift_x = 0.0f;
 
   // --- matrices -------------------------------------------------------------
   glm::vec3 eye() const;
@@ -53,10 +57,13 @@ class Camera {
 
   // Places target and distance / ortho height so that every point is inside
   // the view (aspect = width / height) with a relative margin, keeping the
-  // orientation. Points are in world coordinates.
-  void fit(std::span<const glm::vec3> points, float aspect, float margin = 0.06f);
+  // orientation. Points are in world coordinates. reserve_left / _right:
+  // fractions of the width kept free on each side (sets shift_x).
+  void fit(std::span<const glm::vec3> points, float aspect, float margin = 0.06f, float reserve_left = 0.0f,
+           float reserve_right = 0.0f);
 
  private:
+  glm::mat4 centred_projection(float aspect) const;
   // World-from-"Y up" rotation for the up axis.
   glm::mat3 frame() const;
 };

@@ -35,7 +35,8 @@ const char* kDisplayOptions =
     "  --range MIN:MAX        values at the ends of the colormap (default: per quantity)\n"
     "  --glyphs               draw the metric's unit ellipses in the tangent planes\n"
     "  --glyph-density F      fraction of the vertices with a glyph (default: about 2500 glyphs)\n"
-    "  --glyph-scale S        glyph size relative to the unit ellipse (default: 0.45/sqrt(F))\n"
+    "  --glyph-scale S        glyph size relative to the unit ellipse (default: the drawn\n"
+    "                         glyphs nearly touch; the legend shows the scale)\n"
     "  --wire                 wireframe overlay\n"
     "  --flat                 flat shading (default: smooth, split at ridges and creases)\n"
     "  --crease DEG           display crease angle for smooth shading (default 50; 180: none)\n"
@@ -44,6 +45,8 @@ const char* kDisplayOptions =
     "  --highlight-tri IDS    highlight triangles, e.g. 12,40-45 (numbered from 1)\n"
     "  --highlight-vert IDS   mark vertices (numbered from 1)\n"
     "  --view NAME            iso|front|back|top|bottom|left|right (default iso; front for 2D)\n"
+    "  --yaw DEG, --pitch DEG camera angles about the up axis and above the horizon,\n"
+    "                         replacing the view's (front: 0, 0; iso: 45, 35.3)\n"
     "  --up y|z               the world's up axis (default y)\n"
     "  --ortho                orthographic projection (default perspective)\n"
     "  --zoom F               zoom in by F after fitting the view (default 1)\n"
@@ -63,6 +66,7 @@ struct DisplayArgs {
   std::optional<r::NamedView> view;
   r::UpAxis up = r::UpAxis::Y;
   float zoom = 1;
+  std::optional<float> yaw, pitch;  // degrees, override the view's angles
   glm::vec3 background{1, 1, 1};
   int msaa = 4;
 };
@@ -187,6 +191,11 @@ DisplayArgs parse_display(ArgParser& p) {
     if (up != "y" && up != "z") throw UsageError{"--up expects y or z, got '" + up + "'"};
     a.up = up == "y" ? r::UpAxis::Y : r::UpAxis::Z;
   }
+  if (std::string y = p.option("--yaw"); !y.empty()) a.yaw = static_cast<float>(ArgParser({"--yaw", y}).option_double("--yaw", 0));
+  if (std::string y = p.option("--pitch"); !y.empty()) {
+    a.pitch = static_cast<float>(ArgParser({"--pitch", y}).option_double("--pitch", 0));
+    if (std::abs(*a.pitch) > 90) throw UsageError{"--pitch expects degrees in [-90, 90]"};
+  }
   a.zoom = static_cast<float>(p.option_double("--zoom", 1));
   if (!(a.zoom > 0)) throw UsageError{"--zoom expects a positive factor"};
   if (std::string bg = p.option("--background"); !bg.empty()) a.background = parse_color(bg);
@@ -272,6 +281,8 @@ LoadedScene load_scene(const std::string& mesh_path, const DisplayArgs& a, float
   scene.camera.up_axis = a.up;
   scene.camera.orthographic = a.ortho;
   scene.camera.set_view(a.view ? *a.view : (mesh.dimension() == 2 ? r::NamedView::Front : r::NamedView::Iso));
+  if (a.yaw) scene.camera.yaw = glm::radians(*a.yaw);
+  if (a.pitch) scene.camera.pitch = glm::radians(*a.pitch);
   out.ui.title = s.name;
   out.ui.info = std::to_string(s.geometry.positions.size()) + " vertices, " +
                 std::to_string(s.geometry.triangles.size()) + " triangles" +
@@ -307,6 +318,14 @@ int run_shot(const std::vector<std::string>& raw) {
   r::HeadlessRenderer renderer(width, height);
   double context_s = seconds_since(t1);
   t1 = Clock::now();
+  // Keep the strips of the legend and the panel free: measure them, then fit
+  // the camera again.
+  const float aspect = static_cast<float>(width) / static_cast<float>(height);
+  renderer.layout_ui(ls.scene, ls.ui, width, height);
+  if (ls.ui.legend_width > 0 || ls.ui.panel_width > 0) {
+    ls.scene.fit_camera(aspect, ls.ui.left_reserve(width), ls.ui.right_reserve(width));
+    ls.scene.camera.zoom(1.0f / a.zoom);
+  }
   r::Image img = renderer.render(ls.scene, ls.ui, width, height);
   double render_s = seconds_since(t1);
   t1 = Clock::now();

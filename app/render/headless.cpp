@@ -32,6 +32,19 @@ HeadlessRenderer::~HeadlessRenderer() = default;
 
 std::string HeadlessRenderer::description() const { return gl::gl_description(); }
 
+void HeadlessRenderer::layout_ui(Scene& scene, UiState& ui, int width, int height, int ui_frames) {
+  ImGuiIO& io = ImGui::GetIO();
+  io.DisplaySize = ImVec2(static_cast<float>(width), static_cast<float>(height));
+  io.DeltaTime = 1.0f / 60.0f;
+  io.MousePos = ImVec2(-FLT_MAX, -FLT_MAX);
+  for (int f = 0; f < std::max(ui_frames, 1); ++f) {
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui::NewFrame();
+    draw_ui(scene, ui, width, height);
+    ImGui::Render();
+  }
+}
+
 Image HeadlessRenderer::render(Scene& scene, UiState& ui, int width, int height, int ui_frames) {
   if (impl_->context.width() != width || impl_->context.height() != height) impl_->context.resize(width, height);
   impl_->renderer.draw(scene, width, height);

@@ -23,6 +23,10 @@ class HeadlessRenderer {
   // output depends only on the inputs (same pixels every time).
   Image render(Scene& scene, UiState& ui, int width, int height, int ui_frames = 3);
 
+  // Runs the ImGui frames alone (no drawing) so that ui.legend_width is
+  // known before the camera is fitted (Scene::fit_camera's reserve).
+  void layout_ui(Scene& scene, UiState& ui, int width, int height, int ui_frames = 3);
+
   // "OpenGL 4.5 (Core Profile) Mesa 22.3.6, llvmpipe ..."
   std::string description() const;
 

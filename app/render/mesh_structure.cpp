@@ -98,6 +98,17 @@ std::vector<int> spread_order(const std::vector<Vec3>& points) {
   for (const auto& p : points) box.add(p);
   double extent = box.empty() ? 0.0 : std::max({box.hi.x - box.lo.x, box.hi.y - box.lo.y, box.hi.z - box.lo.z});
   std::vector<char> taken(points.size(), 0);
+  std::vector<int> scrambled(points.size());
+  for (int i = 0; i < n; ++i) scrambled[i] = i;
+  auto mix = [](std::uint32_t x) {  // an integer hash (bijective on 32 bits)
+    x ^= x >> 16;
+    x *= 0x7feb352dU;
+    x ^= x >> 15;
+    x *= 0x846ca68bU;
+    return x ^ (x >> 16);
+  };
+  std::sort(scrambled.begin(), scrambled.end(),
+            [&](int a, int b) { return mix(static_cast<std::uint32_t>(a)) < mix(static_cast<std::uint32_t>(b)); });
   if (extent > 0) {
     std::unordered_set<std::uint64_t> occupied;
     for (int level = 0; level <= 20 && static_cast<int>(order.size()) < n; ++level) {
@@ -108,11 +119,15 @@ std::vector<int> spread_order(const std::vector<Vec3>& points) {
       };
       occupied.clear();
       for (int i : order) occupied.insert(key(points[i]));
-      for (int i = 0; i < n; ++i)
+      // Within a level, candidates in a scrambled (deterministic) order, so
+      // that a prefix ending inside the level is spread too.
+      for (int j = 0; j < n; ++j) {
+        const int i = scrambled[j];
         if (!taken[i] && occupied.insert(key(points[i])).second) {
           taken[i] = 1;
           order.push_back(i);
         }
+      }
     }
   }
   for (int i = 0; i < n; ++i)
@@ -293,7 +308,20 @@ MeshStructure make_mesh_structure(const SurfaceMesh& mesh, const std::string& na
     }
     const float n = static_cast<float>(std::max<std::size_t>(glyphs.centers.size(), 1));
     glyphs.density = options.glyph_density > 0 ? std::min(options.glyph_density, 1.0f) : std::min(1.0f, 2500.0f / n);
-    glyphs.scale = options.glyph_scale > 0 ? options.glyph_scale : 0.45f / std::sqrt(glyphs.density);
+    if (options.glyph_scale > 0) {
+      glyphs.scale = options.glyph_scale;
+    } else {
+      // The drawn glyphs are about sqrt(area / count) apart: scale the median
+      // glyph (radius sqrt(h1 h2)) to 0.45 of that, so they nearly touch.
+      double area = 0;
+      for (int t : live) area += mesh.triangle_area(Triangle(t));
+      std::vector<float> radii;
+      for (const auto& a : glyph_axes) radii.push_back(static_cast<float>(std::sqrt(norm(a[0]) * norm(a[1]))));
+      std::nth_element(radii.begin(), radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2), radii.end());
+      const double median = radii.empty() ? 0.0 : radii[radii.size() / 2];
+      const double spacing = std::sqrt(area / std::max(1.0, static_cast<double>(glyphs.drawn_count())));
+      glyphs.scale = median > 0 && spacing > 0 ? static_cast<float>(0.45 * spacing / median) : 1.0f;
+    }
     glyphs.enabled = false;  // shown on request (--glyphs, the panel)
     s.glyphs.push_back(std::move(glyphs));
   }

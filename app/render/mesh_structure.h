@@ -40,8 +40,9 @@ struct MeshStructureOptions {
   std::vector<int> vertex_origin;
   LengthFormula length_formula = LengthFormula::LinearMetric;  // eq. 6
   // Fraction of the metric glyphs drawn (0: automatic, about 2500 glyphs) and
-  // their scale relative to the unit ellipse (0: automatic, 0.45 / sqrt of
-  // the fraction so that the drawn ones nearly touch).
+  // their scale relative to the unit ellipse (0: automatic, so that the median
+  // glyph spans 0.45 of the mean distance between the drawn ones: they nearly
+  // touch; 0.45 on a mesh adapted to the metric with every glyph drawn).
   float glyph_density = 0.0f;
   float glyph_scale = 0.0f;
 };

@@ -178,10 +178,10 @@ Renderer::~Renderer() = default;
 
 void Renderer::clear_cache() { impl_->cache.clear(); }
 
-void Renderer::draw(const Scene& scene, int width, int height) {
+void Renderer::draw(const Scene& scene, int width, int height, int samples) {
   Impl& r = *impl_;
   const DisplayOptions& d = scene.display;
-  r.target.ensure(width, height, std::max(1, d.msaa_samples));
+  r.target.ensure(width, height, std::max(1, samples > 0 ? samples : d.msaa_samples));
   r.target.bind();
   glViewport(0, 0, width, height);
   glClearColor(d.background.r, d.background.g, d.background.b, 1.0f);
@@ -260,7 +260,8 @@ void Renderer::draw(const Scene& scene, int width, int height) {
       g.set("u_scale", e.scale);
       g.set("u_lift", 0.2f);
       g.set("u_orthographic", ortho);
-      g.set("u_color", e.color);
+      // Over a colour quantity: light glyphs with dark outlines.
+      g.set("u_color", s.active.empty() ? e.color : glm::vec3(0.97f));
       gpu.glyphs[i].vao.bind();
       glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(n));
     }

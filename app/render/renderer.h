@@ -16,14 +16,15 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  // Draws the scene into the offscreen target (width x height pixels).
-  void draw(const Scene& scene, int width, int height);
+  // Draws the scene into the offscreen target (width x height pixels) with
+  // `samples` multisamples (0: scene.display.msaa_samples).
+  void draw(const Scene& scene, int width, int height, int samples = 0);
   // Copies the last drawn picture into framebuffer 0 and leaves it bound
   // with blending and depth test off (ready for the ImGui pass).
   void present();
   // draw() then present().
-  void render(const Scene& scene, int width, int height) {
-    draw(scene, width, height);
+  void render(const Scene& scene, int width, int height, int samples = 0) {
+    draw(scene, width, height, samples);
     present();
   }
 

@@ -52,9 +52,9 @@ std::vector<glm::vec3> Scene::all_positions() const {
   return out;
 }
 
-void Scene::fit_camera(float aspect) {
+void Scene::fit_camera(float aspect, float reserve_left, float reserve_right) {
   std::vector<glm::vec3> pts = all_positions();
-  camera.fit(pts, aspect);
+  camera.fit(pts, aspect, 0.06f, reserve_left, reserve_right);
 }
 
 }  // namespace anisurf::render

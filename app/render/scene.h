@@ -88,7 +88,7 @@ struct EllipseGlyphs {
 };
 
 struct SurfaceStructure {
-  std::string name;
+  std::string name;  // unique in a Scene (the renderer caches GPU data by name)
   TriangleSet geometry;
   glm::vec3 color{0.70f, 0.74f, 0.80f};   // when no quantity is active
   std::vector<ScalarQuantity> scalars;
@@ -129,8 +129,10 @@ struct Scene {
 
   // Positions of every enabled surface (for camera fitting), world coordinates.
   std::vector<glm::vec3> all_positions() const;
-  // Fits the camera to the enabled surfaces for the current orientation.
-  void fit_camera(float aspect);
+  // Fits the camera to the enabled surfaces for the current orientation,
+  // keeping fractions of the width free on the left (the panel) and on the
+  // right (the legend).
+  void fit_camera(float aspect, float reserve_left = 0.0f, float reserve_right = 0.0f);
 };
 
 }  // namespace anisurf::render

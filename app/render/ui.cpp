@@ -34,7 +34,8 @@ SurfaceStructure* first_enabled(Scene& scene) {
   return nullptr;
 }
 
-void legend_window(Scene& scene, int width, int height) {
+void legend_window(Scene& scene, UiState& ui, int width, int height) {
+  ui.legend_width = 0;
   SurfaceStructure* s = first_enabled(scene);
   if (!s) return;
   const ScalarQuantity* q = s->active_scalar();
@@ -42,6 +43,7 @@ void legend_window(Scene& scene, int width, int height) {
   bool any_curves = false;
   for (const auto& c : s->curves) any_curves |= c.enabled && !c.points.empty();
   for (const auto& m : s->markers) any_curves |= m.enabled && !m.positions.empty();
+  any_curves |= !s->highlight_triangles.empty();
   const EllipseGlyphs* glyphs = nullptr;
   for (const auto& g : s->glyphs)
     if (g.enabled && !g.centers.empty()) glyphs = &g;
@@ -128,6 +130,14 @@ void legend_window(Scene& scene, int width, int height) {
       ImGui::SameLine();
       ImGui::Text("%s (%zu)", c.name.c_str(), c.points.size() / 2);
     }
+    if (!s->highlight_triangles.empty()) {
+      ImVec2 p = ImGui::GetCursorScreenPos();
+      dl->AddTriangleFilled(ImVec2(p.x + 0.4f * line, p.y + line), ImVec2(p.x + 1.6f * line, p.y + line),
+                            ImVec2(p.x + line, p.y + 0.1f * line), to_imgui(scene.display.highlight_color));
+      ImGui::Dummy(ImVec2(2 * line, line));
+      ImGui::SameLine();
+      ImGui::Text("highlighted triangles (%zu)", s->highlight_triangles.size());
+    }
     for (const auto& m : s->markers) {
       if (!m.enabled || m.positions.empty()) continue;
       ImVec2 p = ImGui::GetCursorScreenPos();
@@ -146,17 +156,19 @@ void legend_window(Scene& scene, int width, int height) {
       float t = 6.2831853f * static_cast<float>(i) / 24.0f;
       dl->PathLineTo(ImVec2(c.x + 0.9f * line * std::cos(t), c.y + 0.4f * line * std::sin(t)));
     }
-    dl->PathFillConvex(to_imgui(glyphs->color, 0.4f));
+    const glm::vec3 gc = s->active.empty() ? glyphs->color : glm::vec3(0.97f);  // as the renderer draws them
+    dl->PathFillConvex(to_imgui(gc, 0.4f));
     for (int i = 0; i <= 24; ++i) {
       float t = 6.2831853f * static_cast<float>(i) / 24.0f;
       dl->PathLineTo(ImVec2(c.x + 0.9f * line * std::cos(t), c.y + 0.4f * line * std::sin(t)));
     }
-    dl->PathStroke(to_imgui(glyphs->color * 0.35f), 0, 1.5f);
+    dl->PathStroke(to_imgui(gc * 0.35f), 0, 1.5f);
     ImGui::Dummy(ImVec2(2 * line, line));
     ImGui::SameLine();
-    ImGui::Text("metric unit ellipse x %.2g (%zu of %zu)", glyphs->scale, glyphs->drawn_count(),
-                glyphs->centers.size());
+    ImGui::Text("unit ellipse x %.2g", glyphs->scale);
+    ImGui::TextDisabled("%zu of %zu vertices", glyphs->drawn_count(), glyphs->centers.size());
   }
+  ui.legend_width = ImGui::GetWindowWidth() + 2 * pad;
   ImGui::End();
 }
 
@@ -270,6 +282,7 @@ void panel_window(Scene& scene, UiState& ui) {
   }
   ImGui::SetNextItemWidth(180);
   ImGui::ColorEdit3("background", &d.background.r, ImGuiColorEditFlags_NoInputs);
+  ui.panel_width = ImGui::GetWindowPos().x + ImGui::GetWindowWidth() + 8.0f;
   ImGui::End();
 }
 
@@ -294,8 +307,18 @@ ImGuiSession::ImGuiSession() {
 ImGuiSession::~ImGuiSession() { ImGui::DestroyContext(); }
 
 void draw_ui(Scene& scene, UiState& ui, int width, int height) {
+  ui.panel_width = 0;
   if (ui.show_panel) panel_window(scene, ui);
-  if (scene.display.legend) legend_window(scene, width, height);
+  ui.legend_width = 0;
+  if (scene.display.legend) legend_window(scene, ui, width, height);
+}
+
+float UiState::left_reserve(int width) const {
+  return width > 0 ? std::min(panel_width / static_cast<float>(width), 0.45f) : 0.0f;
+}
+
+float UiState::right_reserve(int width) const {
+  return width > 0 ? std::min(legend_width / static_cast<float>(width), 0.45f) : 0.0f;
 }
 
 std::vector<float> legend_ticks(float lo, float hi, bool log_scale) {
@@ -333,7 +356,7 @@ std::vector<float> legend_ticks(float lo, float hi, bool log_scale) {
     return log_scale && lo > 0 ? std::log(v / lo) / std::log(hi / lo) : (v - lo) / (hi - lo);
   };
   for (float v : out)
-    if (pos(v) > 0.08f && pos(v) < 0.92f) ticks.push_back(v);
+    if (pos(v) > 0.12f && pos(v) < 0.88f) ticks.push_back(v);
   ticks.push_back(hi);
   return ticks;
 }

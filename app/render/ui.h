@@ -14,6 +14,13 @@ struct UiState {
   std::string info;          // one line under it, e.g. "37375 vertices, 74754 triangles"
   float fps = 0.0f;          // shown when > 0 (the window)
   bool fit_requested = false;  // set by the panel's "fit" button / view changes
+  float legend_width = 0.0f;   // pixels with margins, measured by draw_ui (0: no legend)
+  float panel_width = 0.0f;    // pixels from the left edge to the panel's right side (0: none)
+
+  // Fractions of a `width`-pixel view covered by the panel (left) and the
+  // legend (right), for Scene::fit_camera.
+  float left_reserve(int width) const;
+  float right_reserve(int width) const;
 };
 
 // Creates the ImGui context for one backend (no imgui.ini, light style, the

@@ -46,6 +46,8 @@ struct Input {
   bool rotating = false, panning = false;
   bool screenshot = false;
   Clock::time_point last_event = Clock::now();
+  Clock::time_point last_wheel = Clock::time_point();
+  bool camera_touched = false;  // by a drag, the wheel or a view key
 };
 
 Input& input_of(GLFWwindow* w) { return *static_cast<Input*>(glfwGetWindowUserPointer(w)); }
@@ -72,6 +74,7 @@ void on_cursor(GLFWwindow* w, double x, double y) {
   int ww = 1, wh = 1;
   glfwGetWindowSize(w, &ww, &wh);
   Camera& cam = in.scene->camera;
+  in.camera_touched |= in.rotating || in.panning;
   if (in.rotating) cam.orbit(static_cast<float>(-dx / wh * 3.0), static_cast<float>(dy / wh * 3.0));
   if (in.panning) cam.pan(static_cast<float>(dx / wh), static_cast<float>(-dy / wh));
 }
@@ -80,6 +83,8 @@ void on_scroll(GLFWwindow* w, double, double dy) {
   Input& in = input_of(w);
   in.last_event = Clock::now();
   if (ImGui::GetIO().WantCaptureMouse) return;
+  in.last_wheel = in.last_event;
+  in.camera_touched = true;
   in.scene->camera.zoom(static_cast<float>(std::pow(0.88, dy)));
 }
 
@@ -88,6 +93,7 @@ void on_key(GLFWwindow* w, int key, int, int action, int mods) {
   in.last_event = Clock::now();
   if (action != GLFW_PRESS || ImGui::GetIO().WantCaptureKeyboard) return;
   Scene& s = *in.scene;
+  in.camera_touched = true;
   auto view = [&](NamedView v) {
     s.camera.set_view(v);
     in.ui->fit_requested = true;
@@ -177,18 +183,25 @@ void run_viewer(Scene& scene, UiState& ui, const ViewerOptions& options) {
   auto bench_start = Clock::now();
   auto fps_start = Clock::now();
   int fps_frames = 0;
+  int samples = scene.display.msaa_samples;
   for (int frame = 0; !glfwWindowShouldClose(window); ++frame) {
     auto frame_start = Clock::now();
     // Idle (nothing happened for a second): wait for events instead of
     // redrawing the same picture.
-    if (!bench && frame_start - input.last_event > std::chrono::seconds(1))
+    const bool idle = !bench && frame_start - input.last_event > std::chrono::seconds(1);
+    if (idle)
       glfwWaitEventsTimeout(0.5);
     else
       glfwPollEvents();
+    // The widths of the legend and the panel are known after the first
+    // frames: fit again to keep their strips free, unless the user moved the
+    // camera already.
+    if (frame == 3 && !bench && (ui.legend_width > 0 || ui.panel_width > 0) && !input.camera_touched)
+      ui.fit_requested = true;
     glfwGetFramebufferSize(window, &fbw, &fbh);
     if (fbw <= 0 || fbh <= 0) continue;  // minimised
     if (ui.fit_requested) {
-      scene.fit_camera(static_cast<float>(fbw) / static_cast<float>(fbh));
+      scene.fit_camera(static_cast<float>(fbw) / static_cast<float>(fbh), ui.left_reserve(fbw), ui.right_reserve(fbw));
       ui.fit_requested = false;
     }
     if (bench) {
@@ -197,7 +210,12 @@ void run_viewer(Scene& scene, UiState& ui, const ViewerOptions& options) {
       if (frame == options.bench_orbit_frames + 1) break;
       scene.camera.yaw = start_yaw + 6.2831853f * static_cast<float>(frame) / options.bench_orbit_frames;
     }
-    renderer.render(scene, fbw, fbh);
+    // While the camera moves, one sample per pixel (llvmpipe's fill rate);
+    // the still picture is redrawn with the multisampling of the options.
+    const bool moving = bench || input.rotating || input.panning ||
+                        Clock::now() - input.last_wheel < std::chrono::milliseconds(300);
+    samples = moving ? 1 : scene.display.msaa_samples;
+    renderer.render(scene, fbw, fbh, samples);
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
@@ -218,7 +236,10 @@ void run_viewer(Scene& scene, UiState& ui, const ViewerOptions& options) {
 
     ++fps_frames;
     double since = std::chrono::duration<double>(Clock::now() - fps_start).count();
-    if (since >= 0.5) {
+    if (idle) {  // waiting for events: the rate says nothing; keep the last one
+      fps_frames = 0;
+      fps_start = Clock::now();
+    } else if (since >= 0.5) {
       ui.fps = static_cast<float>(fps_frames / since);
       fps_frames = 0;
       fps_start = Clock::now();
@@ -230,8 +251,9 @@ void run_viewer(Scene& scene, UiState& ui, const ViewerOptions& options) {
     double s = std::chrono::duration<double>(Clock::now() - bench_start).count();
     std::size_t tris = 0;
     for (const auto& st : scene.surfaces) tris += st.geometry.triangles.size();
-    std::printf("orbit: %d frames in %.2f s = %.1f fps (%dx%d, %zu triangles, %s)\n", options.bench_orbit_frames, s,
-                options.bench_orbit_frames / s, fbw, fbh, tris, gl::gl_description().c_str());
+    std::printf("orbit: %d frames in %.2f s = %.1f fps (%dx%d, %zu triangles, %d sample%s per pixel while moving, %s)\n",
+                options.bench_orbit_frames, s, options.bench_orbit_frames / s, fbw, fbh, tris, samples,
+                samples == 1 ? "" : "s", gl::gl_description().c_str());
   }
 }
 
