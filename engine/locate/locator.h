@@ -17,6 +17,7 @@
 // closest point of the whole mesh, up to floating-point rounding and ties.
 // Feature curves are handled the same way with their edges.
 #pragma once
+#include <concepts>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -56,8 +57,10 @@ class Locator {
   // are ignored; with none the tree answers directly. An OnFeature / Fixed
   // query on a mesh without feature edges / corners is answered as the next
   // weaker constraint (see Location::constraint).
-  Location project(const Vec3& x, std::span<const Hint> hints, Constraint constraint = Constraint::Free);
-  Location project(const Vec3& x, Hint hint = {}, Constraint constraint = Constraint::Free) {
+  Location project(const Vec3& x, std::span<const Hint> hints = {}, Constraint constraint = Constraint::Free);
+  // One hint (a template so that project(x, {}, c) picks the span overload).
+  template <std::same_as<Hint> H>
+  Location project(const Vec3& x, H hint, Constraint constraint = Constraint::Free) {
     return project(x, std::span<const Hint>(&hint, 1), constraint);
   }
 
