@@ -61,6 +61,15 @@ TriangleView view(const AdaptedMesh& m, Triangle t, Vertex moved, Vertex also, c
   return v;
 }
 
+// The straight segment x-w (w a curve vertex) stays within max_curve_sag of
+// its length from the feature curve of the geometry.
+bool curve_sag_ok(AdaptedMesh& m, const Vec3& x, Vertex w, const OperatorOptions& o) {
+  const Vec3 pw = m.mesh().position(w);
+  const Vec3 mid = 0.5 * (x + pw);
+  const Placement at = m.place(mid, VertexKind::Curve, {w});
+  return at.distance <= o.max_curve_sag * norm(pw - x);
+}
+
 // Unit direction, or zero.
 Vec3 dir(const Vec3& a, const Vec3& b) { return normalized(b - a); }
 
@@ -167,6 +176,7 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
         const Vec3 old_d = dir(mesh.position(w), mesh.position(f.other));
         const Vec3 new_d = dir(p.position, mesh.position(f.other));
         if (dot(old_d, new_d) < lim) return Rejection::Tangent;
+        if (!curve_sag_ok(m, p.position, f.other, o)) return Rejection::Tangent;
       }
     }
   }
@@ -411,6 +421,14 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
       q = std::min(q, m.quality(tv.x, tv.M));
     }
     if (last != Rejection::None) continue;
+    if (kind == VertexKind::Curve) {
+      bool ok = true;
+      for (Vertex w : nbrs) ok = ok && curve_sag_ok(m, at.position, w, o);
+      if (!ok) {
+        last = Rejection::Tangent;
+        continue;
+      }
+    }
     if (!(q >= o.move_quality_factor * plan.quality_before) || q <= 0) {
       last = Rejection::Quality;
       continue;

@@ -43,6 +43,11 @@ struct OperatorOptions {
   // Collapse along a curve: largest angle between the new curve segment and
   // each of the two segments it replaces (section 5.1, "tangent vectors").
   double max_curve_turn_deg = 25.0;
+  // Largest distance from the midpoint of a new curve segment (collapse or
+  // move of a curve vertex) to the feature curve of T_G, relative to the
+  // segment's length: bounds the chordal error that successive collapses
+  // would otherwise accumulate on curved ridges and boundaries.
+  double max_curve_sag = 0.02;
   // Collapse: the worst new quality must be at least the worst old quality
   // or this threshold (section 5.1's metric check).
   double collapse_quality = 0.3;

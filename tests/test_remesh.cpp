@@ -1,0 +1,257 @@
+// The remesher (engine/remesh): every operator keeps the mesh valid and
+// uninverted, new vertices lie on the geometry with the metric of T_0,
+// fixed and feature vertices are respected, and whole runs reach the metric.
+#include <doctest/doctest.h>
+
+#include <memory>
+#include <random>
+
+#include "geometry/features.h"
+#include "io/mesh_io.h"
+#include "mesh/operators.h"
+#include "metric/metric_field.h"
+#include "remesh/remesher.h"
+#include "test_util.h"
+
+using namespace anisurf;
+using namespace anisurf::remesh;
+
+namespace {
+
+// T_G = T_0 = the input mesh with its features; T_1 a copy being adapted.
+struct Setup {
+  SurfaceMesh input;
+  std::unique_ptr<GeometrySurface> geometry;
+  std::unique_ptr<ControlSpace> control;
+  std::unique_ptr<AdaptedMesh> adapted;
+};
+
+std::unique_ptr<Setup> make_setup(const std::string& mesh_path, const std::string& sol_path, double iso_size,
+                                  bool g1) {
+  auto s = std::make_unique<Setup>();
+  BuildReport report;
+  s->input = load_mesh(mesh_path, &report);
+  MetricField metric;
+  if (!sol_path.empty()) {
+    attach_fields(s->input, read_sol(sol_path, report.input_vertices), report);
+    metric = metric_from_field(s->input, {}, report.vertex_origin);
+  } else {
+    metric.assign(static_cast<std::size_t>(s->input.vertex_capacity()), isotropic_metric(iso_size));
+  }
+  detect_features(s->input);
+  if (g1)
+    s->geometry = std::make_unique<BezierGeometry>(s->input);
+  else
+    s->geometry = std::make_unique<PolyhedralSurface>(s->input);
+  s->control = std::make_unique<ControlSpace>(s->input, metric, true, MetricInterpolation::Linear, "sol0");
+  s->adapted = std::make_unique<AdaptedMesh>(s->input, *s->geometry, *s->control);
+  return s;
+}
+
+int count_tag(const SurfaceMesh& m, Tag t) {
+  int n = 0;
+  for (int i = 0; i < m.vertex_capacity(); ++i)
+    if (!m.is_deleted(Vertex(i)) && m.has_tag(Vertex(i), t)) ++n;
+  return n;
+}
+
+// Checks after a pass: connectivity invariants and orientation.
+void check_state(AdaptedMesh& a, const char* what) {
+  const ValidationReport v = a.mesh().validate();
+  INFO(what);
+  REQUIRE_MESSAGE(v.ok(), v.summary());
+  CHECK(a.count_inverted() == 0);
+}
+
+// Runs the loop of Remesher::run() pass by pass, checking after each.
+std::vector<PassReport> run_checked(Remesher& r, AdaptedMesh& a, int max_iterations) {
+  std::vector<PassReport> out;
+  auto one = [&](PassKind k) {
+    out.push_back(r.step(k));
+    check_state(a, std::string(pass_name(k)).c_str());
+    return out.back();
+  };
+  one(PassKind::Swap);
+  for (int it = 0; it < max_iterations; ++it) {
+    const int s = one(PassKind::Split).splits;
+    const int c = one(PassKind::Collapse).collapses;
+    one(PassKind::Swap);
+    one(PassKind::Smooth);
+    if (s + c == 0) break;
+  }
+  one(PassKind::Final);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("remesh: T_1 starts on T_G with the metric of T_0 at every vertex") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
+  auto s = make_setup(mesh, sol, 0, true);
+  AdaptedMesh& a = *s->adapted;
+  for (int i = 0; i < a.mesh().vertex_capacity(); ++i) {
+    const Vertex v(i);
+    CHECK(a.mesh().position(v) == s->input.position(v));
+    for (int k = 0; k < 6; ++k) CHECK(a.metric(v).m[k] == doctest::Approx(s->control->metric()[i].m[k]));
+  }
+  check_state(a, "initial");
+}
+
+TEST_CASE("remesh: random operator sequences keep the mesh valid, on the surface and uninverted") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
+  for (const bool g1 : {false, true}) {
+    auto s = make_setup(mesh, sol, 0, g1);
+    AdaptedMesh& a = *s->adapted;
+    SurfaceMesh& m = a.mesh();
+    const OperatorOptions o;
+    std::mt19937 rng(7);
+    const int boundary_before = [&] {
+      int n = 0;
+      for (int i = 0; i < m.vertex_capacity(); ++i)
+        if (!m.is_deleted(Vertex(i)) && m.is_boundary(Vertex(i))) ++n;
+      return n;
+    }();
+    int done[4] = {0, 0, 0, 0};
+    for (int step = 0; step < 1500; ++step) {
+      const int t = std::uniform_int_distribution<int>(0, m.triangle_capacity() - 1)(rng);
+      if (m.is_deleted(Triangle(t))) continue;
+      const Corner c = SurfaceMesh::corner(Triangle(t), std::uniform_int_distribution<int>(0, 2)(rng));
+      const int op = step < 600 ? 0 : std::uniform_int_distribution<int>(0, 3)(rng);
+      if (op == 0) {
+        const SplitPlan p = can_split(a, c, o);
+        if (p.why != Rejection::None) continue;
+        const Vertex v = split(a, c, p);
+        // On the geometry (or at the admitted straight midpoint), with T_0's metric there.
+        if (p.projected && !g1) {
+          const Projection pr = a.geometry().project(m.position(v), {}, Constraint::Free);
+          CHECK(pr.location.distance < 1e-9);
+        }
+        if (p.projected && g1) CHECK(std::abs(norm(m.position(v)) - 1.0) < 5e-3);
+        CHECK(is_spd(a.metric(v)));
+      } else if (op == 1) {
+        const CollapsePlan p = can_collapse(a, c, o);
+        if (p.why != Rejection::None) continue;
+        CHECK(a.kind(p.removed) != VertexKind::Fixed);
+        collapse(a, p);
+      } else if (op == 2) {
+        if (can_swap(a, c, o).why != Rejection::None) continue;
+        swap(a, c);
+      } else {
+        const Vertex v = m.vertex(c);
+        const MovePlan p = can_move(a, v, o);
+        if (p.why != Rejection::None) continue;
+        CHECK(p.quality_after >= p.quality_before);
+        move(a, v, p);
+      }
+      ++done[op];
+      const ValidationReport r = m.validate();
+      REQUIRE_MESSAGE(r.ok(), r.summary());
+    }
+    CHECK(done[0] > 100);
+    CHECK(done[1] > 10);
+    CHECK(done[2] > 10);
+    CHECK(done[3] > 10);
+    CHECK(a.count_inverted() == 0);
+    // The boundary circle is kept: its vertices were only split along it or collapsed along it.
+    int boundary_after = 0;
+    for (int i = 0; i < m.vertex_capacity(); ++i)
+      if (!m.is_deleted(Vertex(i)) && m.is_boundary(Vertex(i))) {
+        ++boundary_after;
+        CHECK(std::abs(m.position(Vertex(i)).z) < 1e-6);  // hemi's rim lies in z = 0
+      }
+    CHECK(boundary_after >= boundary_before);
+  }
+}
+
+TEST_CASE("remesh: sphere20k with h = 0.05, every pass valid and uninverted, the band reached") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/sphere20k.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/sphere20k_iso.sol");
+  auto s = make_setup(mesh, sol, 0, false);
+  RemeshOptions o;
+  o.op.lmin = 0.72;
+  Remesher r(*s->adapted, o);
+  const PassReport before = r.measure();
+  const auto passes = run_checked(r, *s->adapted, 20);
+  const PassReport after = r.measure();
+  CHECK(before.in_band_share < 0.9);
+  CHECK(after.in_band_share > 0.97);
+  CHECK(after.q_min > 0.5);
+  CHECK(after.length_max <= o.op.lmax * 1.05);
+  // On the unit sphere (polyhedral T_G: within its chordal error).
+  for (int i = 0; i < s->adapted->mesh().vertex_capacity(); ++i)
+    if (!s->adapted->mesh().is_deleted(Vertex(i)))
+      CHECK(std::abs(norm(s->adapted->mesh().position(Vertex(i))) - 1.0) < 1e-3);
+  // Each report counts what changed; touched ids are live or reused slots.
+  int total = 0;
+  for (const auto& p : passes) total += p.changes();
+  CHECK(total > 0);
+}
+
+TEST_CASE("remesh: hemi with h = 0.085 on the G1 surface, valid passes, vertices near the unit sphere") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
+  auto s = make_setup(mesh, sol, 0, true);
+  RemeshOptions o;
+  o.op.lmin = 0.72;
+  Remesher r(*s->adapted, o);
+  run_checked(r, *s->adapted, 20);
+  const PassReport after = r.measure();
+  CHECK(after.vertices > 500);
+  CHECK(after.in_band_share > 0.95);
+  CHECK(after.q_min > 0.3);
+  double worst = 0;
+  for (int i = 0; i < s->adapted->mesh().vertex_capacity(); ++i)
+    if (!s->adapted->mesh().is_deleted(Vertex(i)))
+      worst = std::max(worst, std::abs(norm(s->adapted->mesh().position(Vertex(i))) - 1.0));
+  // The coarse polyhedron is 1.4e-2 away from the sphere; the G1 surface much closer.
+  CHECK(worst < 5e-3);
+}
+
+TEST_CASE("remesh: fandisk with h = diagonal/50 keeps its ridges and corners") {
+  ANISURF_REQUIRE_SHARED(mesh, "meshes/fandisk.off");
+  auto s = make_setup(mesh, "", 0, false);
+  const double h = s->input.bbox().diagonal() / 50;
+  s = make_setup(mesh, "", h, false);
+  const int ridges_in = count_tag(s->input, kRidge);
+  REQUIRE(ridges_in > 0);
+  RemeshOptions o;
+  o.op.lmin = 0.72;
+  Remesher r(*s->adapted, o);
+  run_checked(r, *s->adapted, 20);
+  const SurfaceMesh& out = s->adapted->mesh();
+  CHECK(r.measure().in_band_share > 0.9);
+
+  // Every output ridge edge lies on an input ridge curve: its ends on the
+  // input feature edges, its midpoint within the chordal error of h.
+  Locator features(s->input);
+  int ridge_edges = 0;
+  for (int t = 0; t < out.triangle_capacity(); ++t) {
+    if (out.is_deleted(Triangle(t))) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Corner c = SurfaceMesh::corner(Triangle(t), k);
+      if (out.canonical(c) != c || !out.has_tag(c, kRidge)) continue;
+      ++ridge_edges;
+      const Vec3 a = out.position(out.edge_from(c)), b = out.position(out.edge_to(c));
+      int which = 0;
+      for (const Vec3& x : {a, b, 0.5 * (a + b)}) {
+        const Location l = features.project(x, {}, Constraint::OnFeature);
+        CHECK(l.constraint == Constraint::OnFeature);
+        CHECK_MESSAGE(l.distance < (which == 2 ? 0.025 * norm(b - a) : 1e-9 * h), "point " << which << " of ridge edge " << out.edge_from(c).idx << "-" << out.edge_to(c).idx << " length " << norm(b - a) / h);
+        ++which;
+      }
+    }
+  }
+  CHECK(ridge_edges > 0);
+  // Corners are fixed: every input corner is still a vertex.
+  Locator all(s->input);
+  for (int i = 0; i < s->input.vertex_capacity(); ++i) {
+    const Vertex v(i);
+    if (!s->input.has_tag(v, kCorner)) continue;
+    bool found = false;
+    for (int j = 0; j < out.vertex_capacity() && !found; ++j)
+      found = !out.is_deleted(Vertex(j)) && out.position(Vertex(j)) == s->input.position(v);
+    CHECK_MESSAGE(found, "corner " << i << " lost");
+  }
+}
