@@ -170,45 +170,62 @@ class LocalFit {
 
 double angle_of(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
 
-// Smallest angle at v of the triangles beside the edge v -> w (a corner of it
-// in v's fan) whose third vertex lies on the side of `towards` (a direction
-// at v), or pi if none.
-double room_beside(const SurfaceMesh& mesh, Vertex v, const FeatureEdgeAt& edge, const Vec3& towards) {
-  const Vec3& p = mesh.position(v);
-  const Vec3 u = normalized(mesh.position(edge.other) - p);
-  const Vec3 side = towards - dot(towards, u) * u;
-  double room = std::numbers::pi;
-  for (Corner c : {edge.edge, mesh.opposite(edge.edge)}) {
-    if (!c.is_valid()) continue;
-    const Vec3 x = mesh.position(mesh.vertex(c)) - p;  // c is the corner opposite the edge
-    if (dot(x - dot(x, u) * u, side) <= 0) continue;
-    room = std::fmin(room, angle_of(u, x));
-  }
-  return room;
-}
-
 // Tangent line at a regular curve vertex v between curve neighbours a and b,
-// oriented towards b: the circle tangent, unless turning the chords that far
-// would fold a thin triangle beside the curve; then the turn is split by the
-// room on each side (at most `room` times the triangle angle at v); zero if
-// no split fits.
+// oriented towards b. The circle tangent turns the chord v->b by alpha and
+// v->a by beta = turn - alpha, in the plane of the chords; turning a chord
+// past a thin triangle beside it would fold the patch there. So alpha is
+// kept where, for every triangle (v, w, x) beside either curve edge, the
+// turned direction stays on x's side of the chord by at least `room` times
+// the chord's own margin (measured in the triangle's plane): the feasible
+// alpha nearest to the circle's, or the circle's when none fits.
 Vec3 safe_curve_tangent(const SurfaceMesh& mesh, Vertex v, const FeatureEdgeAt& ea, const FeatureEdgeAt& eb,
                         double room) {
   const Vec3& p = mesh.position(v);
   const Vec3 ua = normalized(mesh.position(ea.other) - p), ub = normalized(mesh.position(eb.other) - p);
   const Vec3 t = circle_tangent(mesh.position(ea.other), p, mesh.position(eb.other));
   const double turn = std::numbers::pi - angle_of(ua, ub);
-  if (turn < 1e-12) return t;
-  // t towards b turns ub by alpha; -t turns ua by beta = turn - alpha
+  if (turn < 1e-9) return t;
+  const Vec3 wb = normalized(-ua - dot(-ua, ub) * ub);  // ub turns towards wb
+  const Vec3 wa = normalized(-ub - dot(-ub, ua) * ua);  // ua turns towards wa
+  // direction turned from u by angle g towards w, for the triangles beside
+  // the edge: cos g + sin g D_w / D_u >= room, D_q = det[q, x - v, n_T]
+  struct Side {
+    double ratio;  // D_w / D_u
+  };
+  auto sides = [&](const FeatureEdgeAt& e, const Vec3& u, const Vec3& w) {
+    std::vector<Side> out;
+    for (Corner c : {e.edge, mesh.opposite(e.edge)}) {
+      if (!c.is_valid()) continue;
+      const Triangle tri = SurfaceMesh::triangle(c);
+      const Vec3 nt = normalized(mesh.triangle_normal(tri));
+      const Vec3 x = mesh.position(mesh.vertex(c)) - p;  // c is opposite the edge: its vertex is the third one
+      const double du = dot(cross(u, x), nt), dw = dot(cross(w, x), nt);
+      if (du == 0) continue;
+      out.push_back({dw / du});
+    }
+    return out;
+  };
+  const auto sb = sides(eb, ub, wb), sa = sides(ea, ua, wa);
+  auto ok = [&](double alpha) {
+    const double beta = turn - alpha;
+    for (const Side& s : sb)
+      if (std::cos(alpha) + std::sin(alpha) * s.ratio < room) return false;
+    for (const Side& s : sa)
+      if (std::cos(beta) + std::sin(beta) * s.ratio < room) return false;
+    return true;
+  };
   const double alpha_c = angle_of(t, ub);
-  const double ra = room * room_beside(mesh, v, eb, t - ub), rb = room * room_beside(mesh, v, ea, -t - ua);
-  double alpha = std::fmin(alpha_c, ra);
-  if (turn - alpha > rb) alpha = turn - rb;
-  if (alpha > ra + 1e-12 || alpha < 0) return {};
-  if (alpha == alpha_c) return t;
-  // rotate ub by alpha towards -ua in the plane of the chords
-  const Vec3 w = normalized(-ua - dot(-ua, ub) * ub);
-  return normalized(std::cos(alpha) * ub + std::sin(alpha) * w);
+  if (ok(alpha_c)) return t;
+  const int steps = 64;
+  double best = -1;
+  for (int i = 0; i <= steps; ++i) {
+    const double alpha = turn * i / steps;
+    if (ok(alpha) && (best < 0 || std::fabs(alpha - alpha_c) < std::fabs(best - alpha_c))) best = alpha;
+  }
+  // no turn fits (the curve bends out of the surface beside slivers): keep
+  // the circle tangent; the sector planes turn about it instead (step 3c)
+  if (best < 0) return t;
+  return normalized(std::cos(best) * ub + std::sin(best) * wb);
 }
 
 }  // namespace
@@ -241,7 +258,6 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
     const auto fe = feature_edges_at(mesh, vh);
     if (fe.size() != 2) continue;
     const Vec3 t = safe_curve_tangent(mesh, vh, fe[0], fe[1], options.tangent_room);
-    if (norm(t) == 0) continue;  // no tangent line keeps the patches unfolded: a corner
     regular[v] = 1;
     line[v] = t;
   }
@@ -462,6 +478,54 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
       f.sector_normal_[s] = n;
       ++f.tilted;
     }
+  }
+
+  // 3c. on a regular curve vertex, a triangle beside the curve folds when its
+  // other edge, seen in the sector plane, crosses the curve tangent (thin
+  // triangles): turn the sector normal about the tangent to the nearest
+  // direction that keeps every such triangle unfolded with a margin, or
+  // failing that, to the direction that unfolds them best.
+  const double margin = std::sin(options.unfold_margin_deg * kDeg);
+  for (std::size_t i = 0; i < movable.size(); ++i) {
+    const Vec3& t = axis[i];
+    if (norm(t) == 0) continue;
+    const int s = movable[i];
+    const Vec3& p = mesh.position(f.sector_vertex_[s]);
+    // conditions n . g > 0: det[handle towards next, handle towards prev, n] > 0
+    std::vector<Vec3> gs;
+    for (Corner c : members[i]) {
+      const bool fa = is_feature_edge(mesh, SurfaceMesh::prev(c)), fb = is_feature_edge(mesh, SurfaceMesh::next(c));
+      if (fa == fb) continue;  // none, or both along the curve (nothing to choose)
+      const Vec3 a = mesh.position(mesh.vertex(SurfaceMesh::next(c))) - p;
+      const Vec3 b = mesh.position(mesh.vertex(SurfaceMesh::prev(c))) - p;
+      const Vec3 g = fa ? cross(dot(t, a) >= 0 ? t : -t, b) : cross(a, dot(t, b) >= 0 ? t : -t);
+      if (norm(g) > 0) gs.push_back(normalized(g - dot(g, t) * t));
+    }
+    if (gs.empty()) continue;
+    const Vec3 e1 = f.sector_normal_[s], e2 = cross(t, e1);
+    auto worst = [&](double th) {
+      const Vec3 n = std::cos(th) * e1 + std::sin(th) * e2;
+      double w = 2;
+      for (const Vec3& g : gs) w = std::fmin(w, dot(n, g));
+      return w;
+    };
+    if (worst(0) >= margin) continue;
+    const int steps = 720;
+    double best = 0, best_worst = worst(0);
+    bool feasible = false;
+    for (int k = 1; k <= steps / 2; ++k)
+      for (double th : {2 * std::numbers::pi * k / steps, -2 * std::numbers::pi * k / steps}) {
+        const double w = worst(th);
+        if (!feasible && w >= margin) {
+          feasible = true;
+          best = th;
+        } else if (!feasible && w > best_worst) {
+          best_worst = w;
+          best = th;
+        }
+      }
+    f.sector_normal_[s] = normalized(std::cos(best) * e1 + std::sin(best) * e2);
+    ++f.unfolded;
   }
 
   // 4. corners: sectors joined by a feature edge along which their planes

@@ -43,14 +43,19 @@ struct NormalOptions {
   // at vertices with a single sector.
   bool use_file_normals = true;
   // The tangent of a feature curve at a regular vertex is the circle tangent
-  // unless that turns an edge by more than tangent_room times the angle at
-  // the vertex of a triangle beside it (which would fold the patch); then
-  // the turn is shared by the room on each side, and when nothing fits the
-  // vertex is handled like a corner.
+  // unless turning the edges that far would fold a thin triangle beside the
+  // curve: then the turn is shared so that, in each such triangle, the
+  // turned edge keeps at least tangent_room of its margin; when nothing fits
+  // (a crest bending out of the surface beside slivers) the sector planes
+  // turn about the circle tangent instead (unfold_margin_deg below).
   double tangent_room = 0.5;
   // A sector normal more than this angle away from one of its triangles'
   // normals (noisy fans: the patch would fold) is tilted towards them.
   double max_tilt_deg = 75.0;
+  // On a regular curve vertex, a sector normal is turned about the curve
+  // tangent when a thin triangle beside the curve would fold in its plane,
+  // keeping each such triangle at least this angle away from folding.
+  double unfold_margin_deg = 1.0;
   // At a corner, sectors joined by a feature edge along which their planes
   // differ by less than this angle share one plane (e.g. both sides of a
   // reference interface on a smooth surface).
@@ -75,7 +80,8 @@ class SurfaceFrames {
   const Vec3& tangent_to(Corner e) const { return tangent_[2 * e.idx + 1]; }
   // How each sector normal was obtained (counts over sectors).
   int fitted = 0, angle_weighted = 0, from_file = 0, constrained = 0;
-  int tilted = 0;  // sectors tilted to see all their triangles
+  int tilted = 0;    // sectors tilted to see all their triangles
+  int unfolded = 0;  // sectors turned about their curve tangent to unfold thin triangles
 
  private:
   friend SurfaceFrames compute_frames(const SurfaceMesh&, const NormalOptions&);
