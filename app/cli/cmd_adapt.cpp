@@ -130,8 +130,8 @@ int run_adapt(const std::vector<std::string>& args) {
   if (!(ro.op.lmin > 0) || !(ro.op.lmax > ro.op.lmin)) throw UsageError{"need 0 < lmin < lmax"};
   if (!length.empty() && length != "linear" && length != "log")
     throw UsageError{"--length expects linear or log, got '" + length + "'"};
-  if (!surface.empty() && surface != "g1" && surface != "polyhedral")
-    throw UsageError{"--surface expects g1 or polyhedral, got '" + surface + "'"};
+  if (!surface.empty() && surface != "g1" && surface != "g1-closest" && surface != "polyhedral")
+    throw UsageError{"--surface expects g1, g1-closest or polyhedral, got '" + surface + "'"};
   const bool grade = hgrad > 1;
   if (!grade && hgrad != -1 && hgrad != 0 && hgrad != 1) throw UsageError{"--hgrad expects a ratio > 1, or -1 (off)"};
 
@@ -176,7 +176,8 @@ int run_adapt(const std::vector<std::string>& args) {
   if (surface == "polyhedral")
     geometry = std::make_unique<remesh::PolyhedralSurface>(input);
   else
-    geometry = std::make_unique<remesh::BezierGeometry>(input);
+    geometry = std::make_unique<remesh::BezierGeometry>(
+        input, surface == "g1-closest" ? remesh::BezierGeometry::Mode::Closest : remesh::BezierGeometry::Mode::Parametric);
   remesh::ControlSpace control(input, metric, true, MetricInterpolation::Linear,
                                metric_name.empty() ? "metric" : metric_name);
   const LengthFormula formula = length == "log" ? LengthFormula::LinearSize : LengthFormula::LinearMetric;

@@ -3,6 +3,8 @@
 #include <cassert>
 
 #include "geometry/normals.h"
+#include "locate/interpolate.h"
+#include "locate/surface_projection.h"
 
 namespace anisurf::remesh {
 
@@ -22,25 +24,36 @@ Projection PolyhedralSurface::project(const Vec3& x, std::span<const Hint> hints
   return p;
 }
 
-BezierGeometry::BezierGeometry(const SurfaceMesh& mesh)
-    : locator_(mesh), surface_(mesh, compute_frames(mesh)) {}
+BezierGeometry::BezierGeometry(const SurfaceMesh& mesh, Mode mode)
+    : locator_(mesh), surface_(mesh, compute_frames(mesh)), mode_(mode) {}
 
 Projection BezierGeometry::project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) {
+  // Closest point of the G1 surface: Gauss-Newton on the parameters from the
+  // polyhedral projection (locate/surface_projection.h).
+  const SurfaceEvaluator eval = [this](Triangle t, const std::array<double, 3>& b) {
+    const SurfacePoint s = surface_.evaluate(t, b);
+    return ParametricPoint{s.position, s.d1, s.d2};
+  };
   Projection p;
-  p.location = locator_.project(x, hints, constraint);
+  if (mode_ == Mode::Parametric) {
+    p.location = locator_.project(x, hints, constraint);
+    if (!p.location.is_valid()) {
+      p.point = x;
+      return p;
+    }
+    const SurfacePoint s = surface_.evaluate(p.location.triangle, p.location.bary);
+    p.point = p.location.constraint == Constraint::Fixed ? p.location.point : s.position;
+    p.normal = s.normal;
+    return p;
+  }
+  const SurfaceProjection sp = project_onto_surface(locator_, eval, x, hints, constraint);
+  p.location = sp.location;
   if (!p.location.is_valid()) {
     p.point = x;
     return p;
   }
-  if (p.location.constraint == Constraint::Fixed) {
-    // A corner is a vertex of T_G: the surface interpolates it.
-    p.point = p.location.point;
-    p.normal = unit_triangle_normal(locator_.mesh(), p.location.triangle);
-    return p;
-  }
-  const SurfacePoint s = surface_.evaluate(p.location.triangle, p.location.bary);
-  p.point = s.position;
-  p.normal = s.normal;
+  p.point = sp.point;
+  p.normal = surface_.evaluate(p.location.triangle, p.location.bary).normal;
   return p;
 }
 
@@ -73,12 +86,7 @@ ControlValues ControlSpace::values_at(const Location& where) const {
   out.metric = metric_at(where);
   out.fields.resize(fields_.size());
   for (std::size_t f = 0; f < fields_.size(); ++f) {
-    FieldValue v{};
-    for (int k = 0; k < 3; ++k) {
-      const FieldValue& a = fields_[f][mesh_.vertex(where.triangle, k)];
-      for (int i = 0; i < 6; ++i) v[i] += where.bary[k] * a[i];
-    }
-    out.fields[f] = v;
+    out.fields[f] = interpolate(mesh_, where, fields_[f]);
   }
   return out;
 }

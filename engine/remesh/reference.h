@@ -57,12 +57,18 @@ class PolyhedralSurface final : public GeometrySurface {
 };
 
 // The G1 Bezier surface over T_G (geometry/bezier_surface.h, report section
-// 3): x is located on the polyhedral T_G, then the patch of that triangle is
-// evaluated at the same barycentric coordinates.
+// 3). Two ways to put a point on it:
+//  Parametric: x is located on the polyhedral T_G, then the patch of that
+//    triangle is evaluated at the same barycentric coordinates (the
+//    report's "Farin's algorithm together with a projection algorithm");
+//  Closest: the closest point of the surface, by Gauss-Newton on the
+//    parameters from there (locate/surface_projection.h), about 5x slower
+//    and, on the bench cases, no closer to the exact surfaces.
 class BezierGeometry final : public GeometrySurface {
  public:
+  enum class Mode { Parametric, Closest };
   // Pre: `mesh` has its features tagged and outlives the surface.
-  explicit BezierGeometry(const SurfaceMesh& mesh);
+  explicit BezierGeometry(const SurfaceMesh& mesh, Mode mode = Mode::Parametric);
   Projection project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) override;
   const SurfaceMesh& mesh() const override { return locator_.mesh(); }
   std::string name() const override { return "g1-bezier"; }
@@ -70,6 +76,7 @@ class BezierGeometry final : public GeometrySurface {
  private:
   Locator locator_;
   BezierSurface surface_;
+  Mode mode_;
 };
 
 // What T_0 gives at a point of T_1: the metric and the solution values.
