@@ -42,9 +42,11 @@ struct BezierOptions {
   Handle handle = Handle::Circular;
   // false: no G1 corrections (the plain cubic patch, only G1 at vertices).
   bool g1_corrections = true;
-  // Weight of the corrections of a subpatch's row next to the macro edge that
-  // also moves its free inner control point (0: only the C1 conditions).
-  double inner_correction_weight = 0.5;
+  // The free inner control point of each subpatch (28 + k) moves by this
+  // weight times the sum of the corrections of its two points next to the
+  // macro edge (0: only the C1 conditions move the inner points). 1 measured
+  // best (hemisphere 1.7e-4 against 3.1e-4 for 0; icospheres 2-40x lower).
+  double inner_correction_weight = 1.0;
 };
 
 // Position, first derivatives and unit normal at a point of a triangle.
