@@ -394,6 +394,52 @@ TEST_CASE("headless: colour quantities use the colormap, highlighted triangles s
   CHECK(pink > 100);
 }
 
+TEST_CASE("headless: a second structure from a bare triangle set (a sampled surface) is drawn too") {
+  const int w = 240, h = 160;
+  HeadlessRenderer r(w, h);
+  SurfaceMesh m = cube();
+  Scene scene;
+  scene.surfaces.push_back(make_mesh_structure(m, "cube").structure);
+  // A sampled surface: a 16 x 16 grid over a paraboloid beside the cube,
+  // smooth normals left to the renderer (no corner normals).
+  SurfaceStructure sampled;
+  sampled.name = "sampled surface";
+  sampled.color = {0.1f, 0.8f, 0.2f};
+  const int n = 16;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) {
+      float u = static_cast<float>(i) / n, v = static_cast<float>(j) / n;
+      sampled.geometry.positions.emplace_back(2.0f + u, 0.2f * (u * u + v * v), v);
+    }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      unsigned a = static_cast<unsigned>(i * (n + 1) + j), b = a + n + 1;
+      sampled.geometry.triangles.emplace_back(a, a + 1, b + 1);
+      sampled.geometry.triangles.emplace_back(a, b + 1, b);
+    }
+  sampled.version = 1;
+  scene.surfaces.push_back(sampled);
+  scene.camera.set_view(NamedView::Iso);
+  scene.fit_camera(static_cast<float>(w) / h);
+  scene.display.legend = false;
+  UiState ui;
+  ui.show_panel = false;
+  auto green_pixels = [&](const Image& img) {
+    int count = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const auto* p = img.pixel(x, y);
+        count += p[1] > p[0] + 60 && p[1] > p[2] + 60;
+      }
+    return count;
+  };
+  Image both = r.render(scene, ui, w, h);
+  CHECK(green_pixels(both) > 0.05 * w * h);
+  scene.surfaces[1].enabled = false;
+  Image cube_only = r.render(scene, ui, w, h);
+  CHECK(green_pixels(cube_only) == 0);
+}
+
 // --- `anisurf shot` on the shared meshes ------------------------------------------------
 
 namespace {

@@ -387,7 +387,7 @@ std::vector<cli::Command> gl_commands() {
            kDisplayOptions +
            "\nexample:\n"
            "  anisurf shot fandisk.off --wire --view iso -o fandisk.png\n"
-           "  anisurf shot wing.mesh --sol wing.sol --color length --glyphs --up z -o wing.png\n",
+           "  anisurf shot falcon.mesh --sol falcon.sol --color length --glyphs -o falcon.png\n",
        run_shot});
   list.push_back({"view", "open a mesh in an interactive window",
                   std::string("usage: anisurf view MESH [SOL] [options]\n\n"
@@ -402,7 +402,7 @@ std::vector<cli::Command> gl_commands() {
                       "                         print the frame rate and exit\n" +
                       kDisplayOptions +
                       "\nexample:\n"
-                      "  anisurf view falcon.mesh falcon.sol --color aniso --glyphs --up z\n",
+                      "  anisurf view falcon.mesh falcon.sol --color aniso --glyphs\n",
                   run_view});
   return list;
 }

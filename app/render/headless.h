@@ -9,6 +9,7 @@
 
 namespace anisurf::render {
 
+// One at a time per process: it owns the current Dear ImGui context.
 class HeadlessRenderer {
  public:
   // Creates the context (throws GlError when OSMesa is missing).
