@@ -1,0 +1,119 @@
+#!/usr/bin/env python3
+"""Benchmark of `anisurf adapt` on the shared bench cases, measured by the
+independent evaluator (../shared/bench/eval.py), next to the reference peer's
+figures (Mmg 5.8.0 mmgs, from ../shared/bench/README.md).
+
+usage: bench_remesh.py [--anisurf BIN] [--shared DIR] [--out DIR] [--large]
+                       [--cases a,b] [-- extra adapt options]
+
+Each case runs once with the options of the table (plus the extra ones); the
+time is the wall time of the whole command (load, metric, adaptation,
+writing), the peak RSS that of the process. --large adds the ~500k-triangle
+refinements (sphere20k_isofine, sphere20k_bandfine).
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+
+# Mmg 5.8.0 mmgs on these cases (bench/README.md): V, T, time s, RSS MB,
+# % in band, q min, q mean, qc mean, max distance to the sphere (vertices, centroids).
+MMGS = {
+    "sphere20k_iso": (6300, 12596, 0.29, 103, 98.3, 0.497, 0.968, 0.968, 2.7e-5, 9.0e-4),
+    "sphere20k_band_nograd": (3990, 7976, 2.57, 104, 94.2, 0.013, 0.872, 0.863, 5.6e-5, 4.6e-3),
+    "sphere20k_band": (4435, 8866, 2.93, 104, 82.0, 0.020, 0.863, 0.855, 6.2e-5, 2.7e-3),
+    "sphere20k_bandfine": (393758, 787512, 232.8, 229, 98.2, 0.000, 0.944, 0.944, 5.7e-5, 6.9e-5),
+    "sphere20k_isofine": (265053, 530102, 13.3, 159, 95.4, 0.389, 0.948, 0.948, 9.5e-6, 3.3e-5),
+    "hemi_iso": (983, 1868, 0.10, 102, 96.3, 0.612, 0.947, 0.947, 1.4e-2, 1.5e-2),
+    "square3d": (283, 368, 0.12, 102, 62.0, 0.003, 0.601, 0.601, None, None),
+}
+
+# name: (mesh, sol, adapt options, eval metric spec, sphere distances?)
+CASES = {
+    "sphere20k_iso": ("sphere20k.mesh", "sphere20k_iso.sol", [], "iso:0.05", True),
+    "sphere20k_band_nograd": ("sphere20k.mesh", "sphere20k_band.sol", ["-hgrad", "-1"], "band", True),
+    "sphere20k_band": ("sphere20k.mesh", "sphere20k_band.sol", [], "band", True),
+    "hemi_iso": ("hemi.mesh", "hemi_iso.sol", [], "iso:0.085", True),
+    "square3d": ("square3d.mesh", "square3d.sol", [], "f100x2:0.01", False),
+}
+LARGE = {
+    "sphere20k_isofine": ("sphere20k.mesh", "sphere20k_isofine.sol", [], "iso:0.007", True),
+    "sphere20k_bandfine": ("sphere20k.mesh", "sphere20k_bandfine.sol", [], "bandfine", True),
+}
+
+
+def run_measured(cmd):
+    """Runs cmd; returns (wall seconds, peak RSS MB, stdout)."""
+    t0 = time.monotonic()
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
+    out = p.stdout.read()
+    _, status, usage = os.wait4(p.pid, 0)
+    p.returncode = os.waitstatus_to_exitcode(status)
+    seconds = time.monotonic() - t0
+    if p.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} exited with {p.returncode}")
+    return seconds, usage.ru_maxrss / 1024.0, out.decode()
+
+
+def fmt(x, spec):
+    return "-" if x is None else format(x, spec)
+
+
+def main():
+    here = os.path.dirname(os.path.abspath(__file__))
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--anisurf", default=os.path.join(here, "..", "build", "app", "anisurf"))
+    ap.add_argument("--shared", default=os.path.join(here, "..", "..", "shared"))
+    ap.add_argument("--out", default="/tmp/anisurf_bench_remesh")
+    ap.add_argument("--large", action="store_true")
+    ap.add_argument("--cases", default="")
+    ap.add_argument("--json", default="", help="also write the rows as JSON to this file")
+    ap.add_argument("extra", nargs="*", help="extra options for anisurf adapt (after --)")
+    a = ap.parse_args()
+    cases = dict(CASES)
+    if a.large:
+        cases.update(LARGE)
+    if a.cases:
+        cases = {k: v for k, v in {**CASES, **LARGE}.items() if k in a.cases.split(",")}
+    os.makedirs(a.out, exist_ok=True)
+    inputs = os.path.join(a.shared, "bench", "inputs")
+    evaluator = os.path.join(a.shared, "bench", "eval.py")
+    if "sphere500k" in a.cases:
+        print("sphere500k_band needs gen.py; not run here", file=sys.stderr)
+
+    rows = []
+    for name, (mesh, sol, opts, spec, sphere) in cases.items():
+        out_mesh = os.path.join(a.out, name + ".mesh")
+        cmd = [a.anisurf, "adapt", os.path.join(inputs, mesh), "-sol", os.path.join(inputs, sol), "-o", out_mesh,
+               "-v", "0"] + opts + a.extra
+        seconds, rss, _ = run_measured(cmd)
+        ev = [sys.executable, evaluator, out_mesh, "--metric", spec, "--json"] + (["--sphere"] if sphere else [])
+        e = json.loads(subprocess.run(ev, check=True, capture_output=True, text=True).stdout)
+        row = {
+            "case": name, "options": " ".join(opts + a.extra), "nv": e["nv"], "nt": e["nt"], "seconds": seconds,
+            "rss_mb": rss, "in_band_pct": e["len_in_range_pct"], "q_min": e["q_min"], "q_mean": e["q_mean"],
+            "qc_mean": e["qc_mean"], "geo_vert_max": e.get("geo_vert_max"),
+            "geo_centroid_max": e.get("geo_centroid_max"),
+        }
+        rows.append(row)
+        print(f"{name}: done in {seconds:.2f} s", file=sys.stderr)
+
+    print("| case | options | who | V / T | time s | RSS MB | % in band | q min / mean | qc mean | dist. vertices / centroids |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r['case']} | {r['options'] or 'default'} | anisurf | {r['nv']} / {r['nt']} | {r['seconds']:.2f} | "
+              f"{r['rss_mb']:.0f} | {r['in_band_pct']:.1f} | {r['q_min']:.3f} / {r['q_mean']:.3f} | "
+              f"{r['qc_mean']:.3f} | {fmt(r['geo_vert_max'], '.1e')} / {fmt(r['geo_centroid_max'], '.1e')} |")
+        m = MMGS.get(r["case"])
+        if m:
+            print(f"| | | mmgs | {m[0]} / {m[1]} | {m[2]:.2f} | {m[3]} | {m[4]:.1f} | {m[5]:.3f} / {m[6]:.3f} | "
+                  f"{m[7]:.3f} | {fmt(m[8], '.1e')} / {fmt(m[9], '.1e')} |")
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump(rows, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
