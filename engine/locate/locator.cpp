@@ -17,7 +17,13 @@ struct Locator::Data {
   // Triangles, by slot (deleted slots: tv[3t] == -1).
   int n_slots = 0;
   std::vector<int> tv;            // 3 vertex ids per slot
-  std::vector<Vec3> tp;           // 3 positions per slot
+  // Per slot: positions and a bounding ball (centroid, radius), together for locality.
+  struct Tri {
+    Vec3 p[3];
+    Vec3 c;
+    double r = 0;
+  };
+  std::vector<Tri> tri;
   std::vector<int> vt_first, vt;  // vertex -> incident triangles (CSR)
   std::vector<double> vclear;     // per vertex slot: clearance rho(v), minus a rounding margin
   AabbTree tree;
@@ -36,7 +42,7 @@ struct Locator::Data {
   AabbTree corner_tree;
 
   double tri_d2(const Vec3& x, int t) const {
-    const Vec3* p = &tp[3 * static_cast<std::size_t>(t)];
+    const Vec3* p = tri[static_cast<std::size_t>(t)].p;
     return point_triangle_distance2(x, p[0], p[1], p[2]);
   }
   double seg_d2(const Vec3& x, int e) const {
@@ -97,7 +103,7 @@ void Locator::Data::build_triangles() {
   const SurfaceMesh& m = *mesh;
   n_slots = m.triangle_capacity();
   tv.assign(3 * static_cast<std::size_t>(n_slots), -1);
-  tp.assign(3 * static_cast<std::size_t>(n_slots), Vec3());
+  tri.assign(static_cast<std::size_t>(n_slots), Tri());
   std::vector<BBox> boxes(static_cast<std::size_t>(n_slots));
   std::vector<std::array<int, 2>> pairs;
   pairs.reserve(3 * static_cast<std::size_t>(n_slots));
@@ -106,10 +112,13 @@ void Locator::Data::build_triangles() {
     for (int k = 0; k < 3; ++k) {
       const Vertex v = m.vertex(Triangle(t), k);
       tv[3 * t + k] = v.idx;
-      tp[3 * t + k] = m.position(v);
+      tri[t].p[k] = m.position(v);
       pairs.push_back({v.idx, t});
     }
-    boxes[t] = box_of(&tp[3 * t], 3);
+    boxes[t] = box_of(tri[t].p, 3);
+    Tri& T = tri[t];
+    T.c = (T.p[0] + T.p[1] + T.p[2]) / 3.0;
+    T.r = std::max({norm(T.p[0] - T.c), norm(T.p[1] - T.c), norm(T.p[2] - T.c)}) * (1 + 1e-12);
   }
   build_csr(m.vertex_capacity(), pairs, vt_first, vt);
   tree.build(boxes);
@@ -245,7 +254,7 @@ Location Locator::project(const Vec3& x, std::span<const Hint> hints, Constraint
 Location Locator::free_result(const Vec3& x, int t, int steps, bool fallback) const {
   Location r;
   if (t < 0) return r;
-  const Vec3* p = &d_->tp[3 * static_cast<std::size_t>(t)];
+  const Vec3* p = d_->tri[static_cast<std::size_t>(t)].p;
   const TriangleClosest c = closest_point_on_triangle(x, p[0], p[1], p[2]);
   r.triangle = Triangle(t);
   r.bary = c.bary;
@@ -287,11 +296,17 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
     int best = -1;
     double bd = INFINITY;
     const int* v = &D.tv[3 * static_cast<std::size_t>(K)];
+    const double rK = std::sqrt(dK);
     for (int k = 0; k < 3; ++k) {
       for (int i = D.vt_first[v[k]]; i < D.vt_first[v[k] + 1]; ++i) {
         const int t = D.vt[i];
         if (tmark_[t] == stamp_) continue;
         tmark_[t] = stamp_;
+        // A triangle whose bounding ball is as far as K cannot be closer:
+        // marked as evaluated without the exact distance.
+        const Data::Tri& T = D.tri[static_cast<std::size_t>(t)];
+        const double reach = rK + T.r;
+        if (norm2(x - T.c) >= reach * reach) continue;
         const double d = D.tri_d2(x, t);
         if (d < bd) {
           bd = d;
@@ -304,7 +319,7 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
     dK = bd;
     if (++steps >= D.options.max_steps) return global(K, dK, steps);
   }
-  if (Data::certified(x, std::sqrt(dK), &D.tv[3 * static_cast<std::size_t>(K)], &D.tp[3 * static_cast<std::size_t>(K)], 3,
+  if (Data::certified(x, std::sqrt(dK), &D.tv[3 * static_cast<std::size_t>(K)], D.tri[static_cast<std::size_t>(K)].p, 3,
                       D.vclear))
     return free_result(x, K, steps, false);
   return global(K, dK, steps);

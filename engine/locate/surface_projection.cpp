@@ -21,9 +21,12 @@ struct State {
 };
 
 // A step is taken when it lowers the distance or, once the distance no longer
-// changes to rounding (the last digits of a minimiser), the gradient.
+// changes beyond its rounding (the last digits of a minimiser: |S - x|^2
+// carries the rounding of S, about eps |S| |S - x|), the gradient.
 bool better(const State& c, const State& s) {
-  return c.f < s.f || (c.f <= s.f * (1 + 1e-13) && c.g < s.g);
+  if (c.f < s.f) return true;
+  const double noise = 1e-13 * s.f + 1e-15 * norm(s.p.position) * std::sqrt(s.f);
+  return c.f <= s.f + noise && c.g < s.g;
 }
 
 // Parameter walking on the mesh: moves the parameter point (t, b) by the
