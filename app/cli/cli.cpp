@@ -32,7 +32,7 @@ void print_overview(const std::vector<Command>& commands) {
   std::cout << "anisurf: anisotropic surface mesh adaptation (Castro-Diaz & Hecht 1995)\n\n"
                "usage: anisurf COMMAND [ARGS...]    (anisurf COMMAND --help for details)\n\ncommands:\n";
   for (const auto& c : commands) {
-    std::string pad(c.name.size() < 10 ? 10 - c.name.size() : 1, ' ');
+    std::string pad(c.name.size() < 13 ? 13 - c.name.size() : 1, ' ');
     std::cout << "  " << c.name << pad << c.summary << "\n";
   }
   std::cout << "\nexample: anisurf info mesh.mesh --json\n";
