@@ -321,7 +321,7 @@ std::vector<PassReport> Remesher::run(const std::function<void(const PassReport&
     const int c = record(step(PassKind::Collapse));
     record(step(PassKind::Swap));
     for (int p = 0; p < options_.smoothing_passes; ++p) record(step(PassKind::Smooth));
-    if (s + c == 0) break;
+    if (s + c <= options_.converged_share * mesh_.mesh().n_vertices()) break;
   }
   record(step(PassKind::Final));
   return out;

@@ -25,6 +25,9 @@ namespace anisurf::remesh {
 struct RemeshOptions {
   OperatorOptions op;                // lmax 1.4, lmin 0.6 and the filters
   int max_iterations = 30;           // rounds of split, collapse, swap, smooth in run()
+  // run() stops when a round splits and collapses at most this share of the
+  // vertices (0: only when nothing changes).
+  double converged_share = 0.005;
   int smoothing_passes = 2;          // smoothing passes per round
   int final_smoothing_passes = 10;   // section 6's final optimisation: "about 8-10"
   int cache_size = 10;               // Remark 5: the last 10 modifications
@@ -72,6 +75,7 @@ class Remesher {
   // Initial swaps, then rounds of split, collapse, swap and smoothing until a
   // round neither splits nor collapses (or max_iterations), then the final
   // optimisation. `progress` is called after each pass.
+  // (Rounds also stop when they change at most converged_share of the vertices.)
   std::vector<PassReport> run(const std::function<void(const PassReport&)>& progress = {});
 
   // The state of the mesh now (histogram, quality) without changing it.

@@ -1,0 +1,115 @@
+// `anisurf adapt`: outputs (mesh, metric .sol, JSON report), Mmg's spellings,
+// bad command lines, and the result measured by the independent evaluator.
+#include <doctest/doctest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+
+#include "io/mesh_io.h"
+#include "metric/metric.h"
+#include "test_util.h"
+
+using namespace anisurf;
+
+namespace {
+
+std::string capture(const std::string& cmd, int* status = nullptr) {
+  std::string out;
+  FILE* f = popen(cmd.c_str(), "r");
+  if (!f) return out;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, f)) > 0) out.append(buf, n);
+  const int rc = pclose(f);
+  if (status) *status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  return out;
+}
+
+std::string adapt(const std::string& args, int* status) {
+  return capture(std::string(ANISURF_BINARY) + " adapt " + args + " 2>/dev/null", status);
+}
+
+}  // namespace
+
+TEST_CASE("anisurf adapt hemi: mesh, metric and report written; metric SPD; evaluator agrees on the band") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
+  const auto dir = test::temp_dir("adapt_hemi");
+  const std::string out = (dir / "out.mesh").string(), report = (dir / "report.json").string();
+  int status = -1;
+  const std::string text = adapt("'" + mesh + "' --sol '" + sol + "' --lmin 0.72 -o '" + out + "' --report '" + report + "'", &status);
+  REQUIRE(status == 0);
+  CHECK(text.find("in band") != std::string::npos);
+  const SurfaceMesh m = load_mesh(out);
+  CHECK(m.validate().ok());
+  CHECK(m.n_vertices() > 500);
+  const auto fields = read_sol((dir / "out.sol").string(), m.n_vertices());
+  REQUIRE(!fields.empty());
+  REQUIRE(fields[0].info.kind == FieldKind::Tensor);
+  for (int v = 0; v < m.n_vertices(); ++v) {
+    std::array<double, 6> t{};
+    for (int k = 0; k < 6; ++k) t[k] = fields[0].values[6 * v + k];
+    CHECK(is_spd(SymTensor3(t)));
+  }
+  std::ifstream in(report);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  REQUIRE(j["passes"].size() > 3);
+  for (const auto& p : j["passes"]) CHECK(p["histogram"].size() == 9);
+  CHECK(j["final"]["in_band_pct"].get<double>() > 90.0);
+  CHECK(j["final"]["q_min"].get<double>() > 0.3);
+
+  ANISURF_REQUIRE_SHARED(eval, "bench/eval.py");
+  if (std::system("python3 -c 'import json' >/dev/null 2>&1") != 0) return;
+  const std::string e = capture("python3 '" + eval + "' '" + out + "' --metric iso:0.085 --json");
+  REQUIRE(!e.empty());
+  const nlohmann::json ej = nlohmann::json::parse(e);
+  CHECK(ej["len_in_range_pct"].get<double>() > 90.0);
+  CHECK(ej["len_in_range_pct"].get<double>() == doctest::Approx(j["final"]["in_band_pct"].get<double>()).epsilon(0.02));
+}
+
+TEST_CASE("anisurf adapt: Mmg spellings (-in -sol -out -hgrad -1 -hmax -ar -v)") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/square3d.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/square3d.sol");
+  const auto dir = test::temp_dir("adapt_mmg");
+  const std::string out = (dir / "sq.mesh").string();
+  int status = -1;
+  adapt("-in '" + mesh + "' -sol '" + sol + "' -out '" + out + "' -hgrad -1 -hmax 0.5 -ar 30 -v 0", &status);
+  REQUIRE(status == 0);
+  const SurfaceMesh m = load_mesh(out);
+  CHECK(m.validate().ok());
+  // The unit square keeps its corners and its boundary.
+  int corners = 0;
+  for (int v = 0; v < m.vertex_capacity(); ++v)
+    if (m.has_tag(Vertex(v), kCorner)) ++corners;
+  CHECK(corners == 4);
+  const BBox b = m.bbox();
+  CHECK(b.lo.x == doctest::Approx(0.0));
+  CHECK(b.hi.x == doctest::Approx(1.0));
+  CHECK(b.lo.y == doctest::Approx(0.0));
+  CHECK(b.hi.y == doctest::Approx(1.0));
+  CHECK(std::filesystem::exists(dir / "sq.sol"));
+}
+
+TEST_CASE("anisurf adapt: bad command lines exit with 2, bad inputs with 1, nothing written") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  const auto dir = test::temp_dir("adapt_bad");
+  const std::string out = (dir / "o.mesh").string();
+  int status = -1;
+  adapt("'" + mesh + "' --size 0.1", &status);
+  CHECK(status == 2);  // no output
+  adapt("'" + mesh + "' -o '" + out + "'", &status);
+  CHECK(status == 2);  // no metric
+  adapt("'" + mesh + "' --size 0.1 --length cubic -o '" + out + "'", &status);
+  CHECK(status == 2);
+  adapt("'" + mesh + "' --size 0.1 --lmin 2 --lmax 1 -o '" + out + "'", &status);
+  CHECK(status == 2);
+  adapt("'" + mesh + "' --sol '" + (dir / "missing.sol").string() + "' -o '" + out + "'", &status);
+  CHECK(status == 1);
+  adapt("'" + mesh + "' --size '0 - 1' -o '" + out + "'", &status);
+  CHECK(status == 1);  // a negative size: refused with the vertex named
+  CHECK(!std::filesystem::exists(out));
+}
