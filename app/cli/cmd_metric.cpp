@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "cli/cli.h"
+#include "cli/metric_options.h"
 #include "core/error.h"
 #include "io/mesh_io.h"
 #include "metric/expression.h"
@@ -170,32 +171,18 @@ int run_quality(const std::vector<std::string>& args) {
 
 int run_metric(const std::vector<std::string>& args) {
   ArgParser p(args);
-  const std::string size = p.option("--size"), tensor = p.option("--tensor"), hessian_of = p.option("--hessian-of");
-  const std::string sol = p.option("--sol");
-  const bool curvature = p.flag("--curvature");
+  const MetricSourceOptions mo = parse_metric_options(p);
   const std::string out = p.option("-o", "--output");
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const double error = p.option_double("--error", nan), complexity = p.option_double("--complexity", nan);
-  const double vertices = p.option_double("--vertices", nan), hausd = p.option_double("--hausd", nan);
-  const std::string norm_p = p.option("--norm");
-  const double error_constant = p.option_double("--error-constant", 2.0 / 9.0);
-  MetricBounds bounds;
-  bounds.hmin = p.option_double("--hmin", 0.0);
-  bounds.hmax = p.option_double("--hmax", std::numeric_limits<double>::infinity());
-  bounds.max_anisotropy = p.option_double("--max-aniso", std::numeric_limits<double>::infinity());
+  const double hausd = p.option_double("--hausd", nan);
   const double hgrad = p.option_double("--hgrad", nan);
   const std::string hgrad_space = p.option("--hgrad-space");
   const auto pos = p.positionals();
   if (pos.size() != 1) throw UsageError{"expected one MESH"};
   if (out.empty()) throw UsageError{"-o OUT.sol is required"};
-  const int sources = !size.empty() + !tensor.empty() + !hessian_of.empty() + curvature + !sol.empty();
-  if (sources != 1)
+  if (mo.source_count() != 1)
     throw UsageError{"give exactly one source: --size, --tensor, --hessian-of, --curvature or --sol"};
-  if (!hessian_of.empty() && (!std::isnan(error) + !std::isnan(complexity) + !std::isnan(vertices)) != 1)
-    throw UsageError{"--hessian-of needs exactly one of --error EPS, --complexity C, --vertices N"};
-  if (curvature && !(hausd > 0)) throw UsageError{"--curvature needs --hausd D with D > 0"};
-  if (bounds.hmin < 0 || !(bounds.hmax > 0) || bounds.hmin > bounds.hmax || !(bounds.max_anisotropy >= 1))
-    throw UsageError{"bounds: need 0 <= hmin <= hmax and --max-aniso >= 1"};
+  if (mo.curvature && !(hausd > 0)) throw UsageError{"--curvature needs --hausd D with D > 0"};
   GradationOptions grad;
   if (!std::isnan(hgrad)) {
     if (!(hgrad > 1)) throw UsageError{"--hgrad expects a ratio > 1"};
@@ -204,49 +191,13 @@ int run_metric(const std::vector<std::string>& args) {
   if (!hgrad_space.empty() && hgrad_space != "metric" && hgrad_space != "physical")
     throw UsageError{"--hgrad-space expects metric or physical"};
   grad.space = hgrad_space == "physical" ? GradationSpace::Physical : GradationSpace::Metric;
-  double lp = std::numeric_limits<double>::infinity();
-  if (!norm_p.empty() && norm_p != "inf") {
-    try {
-      lp = std::stod(norm_p);
-    } catch (const std::exception&) {
-      throw UsageError{"--norm expects a number >= 1 or inf"};
-    }
-    if (!(lp >= 1)) throw UsageError{"--norm expects a number >= 1 or inf"};
-  }
 
   const auto t0 = std::chrono::steady_clock::now();
-  LoadedMetric l = load_mesh_and_metric(pos[0], sol);
+  LoadedMetric l = load_mesh_and_metric(pos[0], mo.sol);
   const SurfaceMesh& mesh = l.mesh;
   const std::vector<int>& origin = l.report.vertex_origin;
   std::string what;
-  MetricField M;
-  if (!size.empty()) {
-    M = metric_from_size_expression(mesh, size, origin);
-    what = "size " + size;
-  } else if (!tensor.empty()) {
-    M = metric_from_tensor_expression(mesh, tensor, origin);
-    what = "tensor " + tensor;
-  } else if (!hessian_of.empty()) {
-    const RecoveredDerivatives d = recover_derivatives(mesh, evaluate_at_vertices(mesh, hessian_of, origin));
-    HessianMetricOptions o;
-    o.p = lp;
-    o.error_constant = error_constant;
-    o.bounds = bounds;
-    if (!std::isnan(error)) o.error = error;
-    if (!std::isnan(complexity)) o.target_vertices = predicted_vertex_count(complexity);
-    if (!std::isnan(vertices)) o.target_vertices = vertices;
-    if (!(o.error > 0) && !(o.target_vertices > 0)) throw UsageError{"the error or the complexity must be > 0"};
-    M = hessian_metric(mesh, d.hessian, o);
-    what = "Hessian of " + hessian_of;
-  } else if (curvature) {
-    M = curvature_metric(mesh, hausd, bounds);
-    what = "curvature, hausd " + std::to_string(hausd);
-  } else {
-    M = std::move(l.metric);
-    what = "from " + sol;
-  }
-  if (std::isfinite(bounds.hmax) || bounds.hmin > 0 || std::isfinite(bounds.max_anisotropy))
-    clamp_metric_field(mesh, M, bounds);
+  MetricField M = build_metric(mesh, l.report, std::move(l.metric), mo, hausd, &what);
   GradationReport gr;
   if (!std::isnan(hgrad)) {
     gr = gradate_metric(mesh, M, grad);
