@@ -2,13 +2,17 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <optional>
 
 #include "core/error.h"
+#include "geometry/features.h"
+#include "geometry/normals.h"
 #include "io/mesh_io.h"
+#include "render/bezier_structure.h"
 #include "render/headless.h"
 #include "render/mesh_structure.h"
 #include "render/viewer.h"
@@ -51,7 +55,11 @@ const char* kDisplayOptions =
     "  --ortho                orthographic projection (default perspective)\n"
     "  --zoom F               zoom in by F after fitting the view (default 1)\n"
     "  --background COLOR     white (default), black, or RRGGBB\n"
-    "  --msaa N               multisampling samples, 1 to disable (default 4)\n";
+    "  --msaa N               multisampling samples, 1 to disable (default 4)\n"
+    "  --bezier K             draw the G1 Bezier surface (report section 3) instead of the\n"
+    "                         mesh, each triangle sampled K x K, with the mesh edges on it;\n"
+    "                         --color deviation colours it by the distance to the mesh\n"
+    "  --control-net          with --bezier: the control net (31 points per triangle)\n";
 
 struct DisplayArgs {
   std::string sol;
@@ -69,6 +77,8 @@ struct DisplayArgs {
   std::optional<float> yaw, pitch;  // degrees, override the view's angles
   glm::vec3 background{1, 1, 1};
   int msaa = 4;
+  int bezier = 0;  // > 0: samples per edge of the G1 surface
+  bool control_net = false;
 };
 
 // "--color field NAME" -> "--color field:NAME" (ArgParser options take one value).
@@ -146,7 +156,7 @@ DisplayArgs parse_display(ArgParser& p) {
   DisplayArgs a;
   a.sol = p.option("--sol");
   a.color = p.option("--color");
-  const std::vector<std::string> modes = {"quality", "length", "size", "aniso", "ref", "none"};
+  const std::vector<std::string> modes = {"quality", "length", "size", "aniso", "ref", "none", "deviation"};
   if (!a.color.empty() && a.color.rfind("field:", 0) != 0 &&
       std::find(modes.begin(), modes.end(), a.color) == modes.end()) {
     if (a.color == "field") throw UsageError{"--color field needs the field's name: --color field NAME"};
@@ -202,6 +212,16 @@ DisplayArgs parse_display(ArgParser& p) {
   double msaa = p.option_double("--msaa", 4);
   if (msaa != 1 && msaa != 2 && msaa != 4 && msaa != 8) throw UsageError{"--msaa expects 1, 2, 4 or 8"};
   a.msaa = static_cast<int>(msaa);
+  if (std::string k = p.option("--bezier"); !k.empty()) {
+    double kv = ArgParser({"--bezier", k}).option_double("--bezier", 0);
+    if (kv != std::floor(kv) || kv < 1 || kv > 32) throw UsageError{"--bezier expects a sampling K in [1, 32], got '" + k + "'"};
+    a.bezier = static_cast<int>(kv);
+  }
+  a.control_net = p.flag("--control-net");
+  if (a.control_net && a.bezier == 0) throw UsageError{"--control-net needs --bezier K"};
+  if (a.color == "deviation" && a.bezier == 0) throw UsageError{"--color deviation needs --bezier K"};
+  if (a.bezier > 0 && !a.color.empty() && a.color != "deviation" && a.color != "none")
+    throw UsageError{"with --bezier, --color takes deviation or none"};
   return a;
 }
 
@@ -220,7 +240,7 @@ std::string quantity_for(const DisplayArgs& a, const r::MeshStructure& ms, const
   auto need_metric = [&](const char* what) {
     if (ms.metric_field.empty()) throw Error(std::string("--color ") + what + " needs a metric: " + no_metric_reason(ms));
   };
-  if (c.empty() || c == "none") return "";
+  if (c.empty() || c == "none" || c == "deviation") return "";
   if (c == "quality") return r::quantity::kQuality;
   if (c == "length") return r::quantity::kLength;
   if (c == "size") return need_metric("size"), r::quantity::kSize;
@@ -287,6 +307,25 @@ LoadedScene load_scene(const std::string& mesh_path, const DisplayArgs& a, float
   out.ui.info = std::to_string(s.geometry.positions.size()) + " vertices, " +
                 std::to_string(s.geometry.triangles.size()) + " triangles" +
                 (ms.metric_field.empty() ? "" : ", metric '" + ms.metric_field + "'");
+  if (a.bezier > 0) {
+    // The G1 surface over the mesh with its features (detected on a copy so
+    // the mesh's own display keeps the file's tags).
+    SurfaceMesh tagged = mesh;
+    detect_features(tagged);
+    const BezierSurface surface(tagged, compute_frames(tagged));
+    r::BezierStructureOptions bo;
+    bo.k = a.bezier;
+    bo.control_net = a.control_net;
+    r::SurfaceStructure b = r::make_bezier_structure(tagged, surface, "G1 surface", bo);
+    if (a.color == "deviation") b.activate(r::quantity::kDeviation);
+    for (auto& q : b.scalars) {
+      if (a.colormap) q.colormap = *a.colormap;
+      if (a.range) q.range_min = a.range->first, q.range_max = a.range->second;
+    }
+    s.enabled = false;  // the surface replaces the mesh (its edges are drawn on it)
+    scene.surfaces.push_back(std::move(b));
+    out.ui.info += "; G1 surface sampled " + std::to_string(a.bezier) + "x" + std::to_string(a.bezier);
+  }
   scene.surfaces.push_back(std::move(s));
   scene.fit_camera(aspect);
   scene.camera.zoom(1.0f / a.zoom);
