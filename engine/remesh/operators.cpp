@@ -85,7 +85,7 @@ std::string_view rejection_name(Rejection r) {
     case Rejection::Inversion: return "inversion";
     case Rejection::Normal: return "normal";
     case Rejection::Quality: return "quality";
-    case Rejection::LongEdge: return "long_edge";
+    case Rejection::Length: return "length";
     case Rejection::Cache: return "cache";
     case Rejection::NoGain: return "no_gain";
     case Rejection::kCount: break;
@@ -205,7 +205,7 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
     if (w == k && !moves) continue;
     for (Vertex n : one_ring(mesh, w)) {
       if (n == r || n == k) continue;
-      if (m.length(p.position, p.values.metric, mesh.position(n), m.metric(n)) > o.lmax) return Rejection::LongEdge;
+      if (m.length(p.position, p.values.metric, mesh.position(n), m.metric(n)) > o.lmax) return Rejection::Length;
     }
   }
   if (q_new < std::min(q_old, o.collapse_quality)) return Rejection::Quality;
@@ -396,7 +396,7 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
   Vec3 dx = o.omega * (p0 - s);
   const double dmax = o.max_move * shortest;
   if (norm(dx) > dmax) dx *= dmax / norm(dx);
-  if (!(norm(dx) > 1e-6 * shortest)) {
+  if (!(norm(dx) > o.min_move * shortest)) {
     plan.why = Rejection::NoGain;
     return plan;
   }
@@ -419,6 +419,13 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
       const TriangleView tv = view(m, M::triangle(fan[i]), v, Vertex(), at);
       last = check_triangle(tv.x[0], tv.x[1], tv.x[2], old_n[i], sn, o);
       q = std::min(q, m.quality(tv.x, tv.M));
+    }
+    if (last != Rejection::None) continue;
+    for (Vertex w : one_ring(mesh, v)) {
+      const Vec3& pw = mesh.position(w);
+      const double l_new = m.length(at.position, at.values.metric, pw, m.metric(w));
+      const double l_old = m.length(v, w);
+      if (l_new > o.lmax && l_new > l_old) last = Rejection::Length;
     }
     if (last != Rejection::None) continue;
     if (kind == VertexKind::Curve) {

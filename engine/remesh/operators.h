@@ -22,7 +22,7 @@ enum class Rejection : int {
   Inversion,    // a triangle would be inverted or degenerate
   Normal,       // a triangle normal would turn too far (from its old normal or the surface)
   Quality,      // eq. 17 quality: worse than the threshold and than before
-  LongEdge,     // a collapse would create an edge longer than lmax
+  Length,       // a collapse would create an edge longer than lmax, a move one beyond it
   Cache,        // undoes one of the last modifications (Remark 5)
   NoGain,       // move: the vertex is already at its optimum
   kCount
@@ -58,6 +58,9 @@ struct OperatorOptions {
   // halvings tried ("about 8-10").
   double omega = 0.6;
   double max_move = 0.5;
+  // Displacements shorter than this share of the shortest incident edge are
+  // not worth a move (the vertex is at its optimum).
+  double min_move = 0.01;
   int move_backtracks = 8;
   // Move: accept when the worst new quality is at least this factor times
   // the worst old one (1: the report's "greater than"; below 1: Remark 4's
@@ -124,8 +127,9 @@ struct MovePlan {
 // Target p0 of eq. 19 (metric-weighted barycentre of the neighbours; of the
 // two curve neighbours for a curve vertex), displacement omega (p0 - s)
 // bounded by max_move times the shortest incident edge, projected onto the
-// surface (the curve), halved until no triangle inverts and the worst
-// quality is not lower than before (times move_quality_factor).
+// surface (the curve), halved until no triangle inverts, the worst quality
+// is not lower than before (times move_quality_factor) and no incident edge
+// grows beyond lmax (smoothing must not undo the splits).
 MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o);
 // Pre: plan.why == None.
 void move(AdaptedMesh& m, Vertex v, const MovePlan& plan);
