@@ -4,9 +4,12 @@ independent evaluator (../shared/bench/eval.py), next to the reference peer's
 figures (Mmg 5.8.0 mmgs, from ../shared/bench/README.md).
 
 usage: bench_remesh.py [--anisurf BIN] [--shared DIR] [--out DIR] [--large]
-                       [--cases a,b] [-- extra adapt options]
+                       [--cases a,b] [--profiles paper,band] [-- extra adapt options]
 
-Each case runs once with the options of the table (plus the extra ones); the
+Profiles: `paper` runs with the report's defaults (lmin 0.6, lmax 1.4);
+`band` with --lmin 0.72, which puts the edges in eval.py's band
+[1/sqrt2, sqrt2] (with lmin 0.6 edges of 0.6-0.7 are accepted as adapted).
+Each case runs once per profile with the options of the table (plus the extra ones); the
 time is the wall time of the whole command (load, metric, adaptation,
 writing), the peak RSS that of the process. --large adds the ~500k-triangle
 refinements (sphere20k_isofine, sphere20k_bandfine).
@@ -70,6 +73,7 @@ def main():
     ap.add_argument("--large", action="store_true")
     ap.add_argument("--cases", default="")
     ap.add_argument("--json", default="", help="also write the rows as JSON to this file")
+    ap.add_argument("--profiles", default="paper,band")
     ap.add_argument("extra", nargs="*", help="extra options for anisurf adapt (after --)")
     a = ap.parse_args()
     cases = dict(CASES)
@@ -83,33 +87,38 @@ def main():
     if "sphere500k" in a.cases:
         print("sphere500k_band needs gen.py; not run here", file=sys.stderr)
 
+    profiles = {"paper": [], "band": ["--lmin", "0.72"]}
+    runs = [(name, case, p) for name, case in cases.items() for p in a.profiles.split(",")]
     rows = []
-    for name, (mesh, sol, opts, spec, sphere) in cases.items():
-        out_mesh = os.path.join(a.out, name + ".mesh")
+    for name, (mesh, sol, case_opts, spec, sphere), profile in runs:
+        opts = case_opts + profiles[profile]
+        out_mesh = os.path.join(a.out, name + "_" + profile + ".mesh")
         cmd = [a.anisurf, "adapt", os.path.join(inputs, mesh), "-sol", os.path.join(inputs, sol), "-o", out_mesh,
                "-v", "0"] + opts + a.extra
         seconds, rss, _ = run_measured(cmd)
         ev = [sys.executable, evaluator, out_mesh, "--metric", spec, "--json"] + (["--sphere"] if sphere else [])
         e = json.loads(subprocess.run(ev, check=True, capture_output=True, text=True).stdout)
         row = {
-            "case": name, "options": " ".join(opts + a.extra), "nv": e["nv"], "nt": e["nt"], "seconds": seconds,
+            "case": name, "options": profile + ": " + (" ".join(opts + a.extra) or "lmin 0.6 lmax 1.4"), "nv": e["nv"], "nt": e["nt"], "seconds": seconds,
             "rss_mb": rss, "in_band_pct": e["len_in_range_pct"], "q_min": e["q_min"], "q_mean": e["q_mean"],
             "qc_mean": e["qc_mean"], "geo_vert_max": e.get("geo_vert_max"),
             "geo_centroid_max": e.get("geo_centroid_max"),
         }
         rows.append(row)
-        print(f"{name}: done in {seconds:.2f} s", file=sys.stderr)
+        print(f"{name} ({profile}): done in {seconds:.2f} s", file=sys.stderr)
 
     print("| case | options | who | V / T | time s | RSS MB | % in band | q min / mean | qc mean | dist. vertices / centroids |")
     print("|---|---|---|---|---|---|---|---|---|---|")
+    last = None
     for r in rows:
-        print(f"| {r['case']} | {r['options'] or 'default'} | anisurf | {r['nv']} / {r['nt']} | {r['seconds']:.2f} | "
+        m = MMGS.get(r["case"]) if r["case"] != last else None
+        if m:
+            print(f"| {r['case']} | mmgs | mmgs | {m[0]} / {m[1]} | {m[2]:.2f} | {m[3]} | {m[4]:.1f} | {m[5]:.3f} / {m[6]:.3f} | "
+                  f"{m[7]:.3f} | {fmt(m[8], '.1e')} / {fmt(m[9], '.1e')} |")
+        last = r["case"]
+        print(f"| {r['case']} | {r['options']} | anisurf | {r['nv']} / {r['nt']} | {r['seconds']:.2f} | "
               f"{r['rss_mb']:.0f} | {r['in_band_pct']:.1f} | {r['q_min']:.3f} / {r['q_mean']:.3f} | "
               f"{r['qc_mean']:.3f} | {fmt(r['geo_vert_max'], '.1e')} / {fmt(r['geo_centroid_max'], '.1e')} |")
-        m = MMGS.get(r["case"])
-        if m:
-            print(f"| | | mmgs | {m[0]} / {m[1]} | {m[2]:.2f} | {m[3]} | {m[4]:.1f} | {m[5]:.3f} / {m[6]:.3f} | "
-                  f"{m[7]:.3f} | {fmt(m[8], '.1e')} / {fmt(m[9], '.1e')} |")
     if a.json:
         with open(a.json, "w") as f:
             json.dump(rows, f, indent=1)
