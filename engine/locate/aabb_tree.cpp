@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 
 namespace anisurf {
 
@@ -14,6 +15,15 @@ double half_area(const BBox& b) {
   if (b.empty()) return 0;
   const Vec3 e = b.hi - b.lo;
   return e.x * e.y + e.y * e.z + e.z * e.x;
+}
+
+float round_down(double v) {
+  float f = static_cast<float>(v);
+  return static_cast<double>(f) > v ? std::nextafter(f, -INFINITY) : f;
+}
+float round_up(double v) {
+  float f = static_cast<float>(v);
+  return static_cast<double>(f) < v ? std::nextafter(f, INFINITY) : f;
 }
 
 void merge(BBox& a, const BBox& b) {
@@ -50,8 +60,10 @@ void AabbTree::build(const std::vector<BBox>& boxes) {
       merge(box, boxes[ids_[i]]);
       cbox.add(centre[ids_[i]]);
     }
-    nodes_[task.node].lo = box.lo;
-    nodes_[task.node].hi = box.hi;
+    for (int k = 0; k < 3; ++k) {
+      nodes_[task.node].lo[k] = round_down(box.lo[k]);
+      nodes_[task.node].hi[k] = round_up(box.hi[k]);
+    }
     const int n = task.end - task.begin;
     auto make_leaf = [&] {
       nodes_[task.node].first = task.begin;

@@ -10,6 +10,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <vector>
 
 #include "core/vec3.h"
@@ -18,12 +19,18 @@ namespace anisurf {
 
 class AabbTree {
  public:
+  // 32 bytes: the box in single precision, rounded outwards (it still holds
+  // its primitives, so distances to it stay lower bounds); two siblings share
+  // a cache line.
   struct Node {
-    Vec3 lo, hi;
+    float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
     int first = 0;  // leaf: first slot in the id array; inner: index of the left child
     int count = 0;  // leaf: number of primitives (> 0); inner: 0 (right child = first + 1)
     bool is_leaf() const { return count > 0; }
+    Vec3 lower() const { return {lo[0], lo[1], lo[2]}; }
+    Vec3 upper() const { return {hi[0], hi[1], hi[2]}; }
   };
+  static_assert(sizeof(Node) == 32);
   static constexpr int kMaxLeafSize = 8;
 
   AabbTree() = default;
@@ -92,7 +99,7 @@ int AabbTree::nearest(BoxD2&& box_d2, PrimD2&& prim_d2, double& best_d2) const {
   Item stack[kStackSize];
   int top = 0;
   int found = -1;
-  const double d_root = box_d2(nodes_[0].lo, nodes_[0].hi);
+  const double d_root = box_d2(nodes_[0].lower(), nodes_[0].upper());
   if (!(d_root < best_d2)) return -1;
   stack[top++] = {0, d_root};
   while (top > 0) {
@@ -110,8 +117,8 @@ int AabbTree::nearest(BoxD2&& box_d2, PrimD2&& prim_d2, double& best_d2) const {
       continue;
     }
     const int l = n.first, r = n.first + 1;
-    const double dl = box_d2(nodes_[l].lo, nodes_[l].hi);
-    const double dr = box_d2(nodes_[r].lo, nodes_[r].hi);
+    const double dl = box_d2(nodes_[l].lower(), nodes_[l].upper());
+    const double dr = box_d2(nodes_[r].lower(), nodes_[r].upper());
     // Push the far child first so that the near one is searched first.
     if (dl <= dr) {
       if (dr < best_d2) stack[top++] = {r, dr};
@@ -132,7 +139,7 @@ void AabbTree::for_each_within(BoxD2&& box_d2, double r2, Visit&& visit) const {
   stack[top++] = 0;
   while (top > 0) {
     const Node& n = nodes_[stack[--top]];
-    if (box_d2(n.lo, n.hi) > r2) continue;
+    if (box_d2(n.lower(), n.upper()) > r2) continue;
     if (n.is_leaf()) {
       for (const int* p = leaf_begin(n); p != leaf_end(n); ++p) visit(*p);
     } else {

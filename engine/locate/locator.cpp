@@ -430,13 +430,32 @@ Location Locator::project_corner(const Vec3& x) {
 
 // --- helpers on T_1 -------------------------------------------------------------
 
+namespace {
+
+// Calls f(c) for each corner of the fan of v, counter-clockwise from
+// corner(v) (the whole fan: a boundary vertex starts at its clockwise end).
+template <class F>
+void for_each_fan_corner(const SurfaceMesh& mesh, Vertex v, F&& f) {
+  const Corner start = mesh.corner(v);
+  if (!start.is_valid()) return;
+  Corner c = start;
+  int guard = 0;
+  do {
+    f(c);
+    c = mesh.swing_ccw(c);
+  } while (c.is_valid() && c != start && ++guard < 1 << 20);
+}
+
+}  // namespace
+
 Constraint vertex_constraint(const SurfaceMesh& mesh, Vertex v, std::uint8_t feature_tags, std::uint8_t corner_tags) {
   if (mesh.vertex_tags(v) & corner_tags) return Constraint::Fixed;
   // The two edges at v in each triangle of its fan (a boundary fan's last edge included).
-  for (Corner c : mesh.fan(v))
-    if ((mesh.edge_tags(SurfaceMesh::next(c)) & feature_tags) || (mesh.edge_tags(SurfaceMesh::prev(c)) & feature_tags))
-      return Constraint::OnFeature;
-  return Constraint::Free;
+  bool on_feature = false;
+  for_each_fan_corner(mesh, v, [&](Corner c) {
+    on_feature |= ((mesh.edge_tags(SurfaceMesh::next(c)) | mesh.edge_tags(SurfaceMesh::prev(c))) & feature_tags) != 0;
+  });
+  return on_feature ? Constraint::OnFeature : Constraint::Free;
 }
 
 std::vector<Location> project_vertices(const SurfaceMesh& mesh, Locator& locator, std::vector<Hint>& hints,
@@ -465,14 +484,13 @@ std::vector<Location> project_vertices(const SurfaceMesh& mesh, Locator& locator
       ++st.projected;
       st.steps += out[v].steps;
       if (out[v].used_fallback) ++st.fallbacks;
-      if (mesh.is_isolated(vh)) continue;
-      for (Corner k : mesh.fan(vh)) {
+      for_each_fan_corner(mesh, vh, [&](Corner k) {
         for (Vertex w : {mesh.vertex(SurfaceMesh::next(k)), mesh.vertex(SurfaceMesh::prev(k))}) {
           if (from[w.idx] != -2) continue;
           from[w.idx] = v;
           queue.push_back(w.idx);
         }
-      }
+      });
     }
   }
   if (stats) *stats = st;
