@@ -123,6 +123,10 @@ TEST_CASE("remesh: random operator sequences keep the mesh valid, on the surface
         const SplitPlan p = can_split(a, c, o);
         if (p.why != Rejection::None) continue;
         const Vertex v = split(a, c, p);
+        if (p.swap_instead) {
+          CHECK(!v.is_valid());
+          continue;
+        }
         // On the geometry (or at the admitted straight midpoint), with T_0's metric there.
         if (p.projected && !g1) {
           const Projection pr = a.geometry().project(m.position(v), {}, Constraint::Free);

@@ -128,6 +128,18 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     return Rejection::None;
   };
   plan.at = m.place(mid, plan.kind, {b, d});
+  // Figure 14: a swap instead when the new vertex would be too close to both
+  // opposite vertices.
+  const Corner oc = mesh.opposite(c);
+  if (oc.is_valid()) {
+    const Vertex a = mesh.vertex(c), e = mesh.vertex(oc);
+    const double la = m.length(plan.at.position, plan.at.values.metric, mesh.position(a), m.metric(a));
+    const double le = m.length(plan.at.position, plan.at.values.metric, mesh.position(e), m.metric(e));
+    if (la < o.lmin && le < o.lmin && can_swap(m, c, o).why == Rejection::None) {
+      plan.swap_instead = true;
+      return plan;
+    }
+  }
   const Vec3 sn = plan.kind == VertexKind::Free ? plan.at.normal : Vec3();
   plan.why = check(plan.at.position, sn);
   if (plan.why != Rejection::None) {
@@ -146,6 +158,10 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
 
 Vertex split(AdaptedMesh& m, Corner c, const SplitPlan& plan) {
   SurfaceMesh& mesh = m.mesh();
+  if (plan.swap_instead) {
+    swap(m, c);
+    return Vertex();
+  }
   const std::uint8_t etags = mesh.edge_tags(c);
   const bool boundary = mesh.is_boundary_edge(c);
   const Vertex v = anisurf::split(mesh, c, plan.at.position);

@@ -74,13 +74,17 @@ struct SplitPlan {
   Placement at;            // the new vertex
   VertexKind kind = VertexKind::Free;
   bool projected = true;   // false: the projection was refused, the straight midpoint is used
+  bool swap_instead = false;  // section 5.3 / figure 14: the edge is swapped, no vertex added
 };
 // New vertex at the projection of the midpoint (onto the feature curve for a
 // feature edge). Refused when a new triangle would be inverted or turned
 // too far with respect to the triangle it halves, at the projection and at
-// the straight midpoint.
+// the straight midpoint. When both new edges to the opposite vertices would
+// be shorter than lmin and the edge can be swapped (can_swap), the plan is
+// that swap instead (section 5.3, figure 14).
 SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o);
-// Pre: can_split(...).why == None. Returns the new vertex (tagged kRidge on a ridge edge).
+// Pre: can_split(...).why == None. Returns the new vertex (tagged kRidge on a
+// ridge edge), or an invalid vertex when the plan was a swap.
 Vertex split(AdaptedMesh& m, Corner c, const SplitPlan& plan);
 
 // --- edge collapse (section 5.1) ----------------------------------------------

@@ -129,6 +129,10 @@ void Remesher::split_pass(PassReport& r) {
       continue;
     }
     const Vertex v = split(mesh_, c, plan);
+    if (!v.is_valid()) {  // swapped instead (figure 14)
+      ++r.swaps;
+      continue;
+    }
     ++r.splits;
     if (!plan.projected) ++r.split_unprojected;
     r.touched.push_back(v.idx);
