@@ -327,3 +327,29 @@ TEST_CASE("torus inside: hints on the opposite wall of the tube and across the h
   // edge length, are then confirmed by the tree.
   MESSAGE("torus inside: " << fallbacks << "/" << n << " tube points confirmed by the tree");
 }
+
+TEST_CASE("deleted triangle slots are never returned, stale hints are ignored") {
+  ANISURF_REQUIRE_SHARED(path, "meshes/bunny.off");
+  SurfaceMesh m = load_mesh(path);
+  std::vector<int> deleted;
+  for (int t = 0; t < m.triangle_capacity(); t += 97) {
+    m.delete_triangle(Triangle(t));
+    deleted.push_back(t);
+  }
+  REQUIRE(m.has_garbage());
+  Locator loc(m);
+  const test::PointSampler sample(m);
+  std::mt19937_64 rng(18);
+  int bad = 0;
+  for (int i = 0; i < 500; ++i) {
+    const auto np = sample(rng, 1e-4, 1e-2);
+    const std::array<Hint, 3> hints{Hint{Triangle(deleted[i % deleted.size()])}, Hint{Triangle(-5)},
+                                    Hint{Triangle(m.triangle_capacity() + 3)}};
+    for (const Location& r : {loc.project(np.x, hints), loc.project(np.x, Hint{Triangle(np.source)})}) {
+      bad += !test::consistent(m, r, np.x);  // fails on a deleted triangle
+      bad += !test::same_distance(r.distance, std::sqrt(test::brute_force_d2(m, sample.triangles(), np.x)),
+                                  sample.diagonal());
+    }
+  }
+  CHECK(bad == 0);
+}
