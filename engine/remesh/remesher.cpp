@@ -59,7 +59,30 @@ std::string_view pass_name(PassKind k) {
   return "?";
 }
 
-Remesher::Remesher(AdaptedMesh& mesh, const RemeshOptions& options) : mesh_(mesh), options_(options) {}
+Remesher::Remesher(AdaptedMesh& mesh, const RemeshOptions& options) : mesh_(mesh), options_(options) { mark_all(); }
+
+void Remesher::mark_all() {
+  const std::size_t n = static_cast<std::size_t>(mesh_.mesh().vertex_capacity());
+  swap_active_.assign(n, 1);
+  smooth_active_.assign(n, 1);
+}
+
+void Remesher::mark(Vertex v) {
+  const std::size_t i = static_cast<std::size_t>(v.idx);
+  if (i >= swap_active_.size()) {
+    const std::size_t n = std::max<std::size_t>(i + 1, static_cast<std::size_t>(mesh_.mesh().vertex_capacity()));
+    swap_active_.resize(n, 0);
+    smooth_active_.resize(n, 0);
+  }
+  swap_active_[i] = 1;
+  smooth_active_[i] = 1;
+}
+
+void Remesher::touch(PassReport& r, Vertex v) {
+  r.touched.push_back(v.idx);
+  mark(v);
+  for (Vertex w : one_ring(mesh_.mesh(), v)) mark(w);
+}
 
 void Remesher::remember(PassKind kind, Vertex v) {
   if (options_.cache_size <= 0) return;
@@ -135,9 +158,9 @@ void Remesher::split_pass(PassReport& r) {
     }
     ++r.splits;
     if (!plan.projected) ++r.split_unprojected;
-    r.touched.push_back(v.idx);
     remember(PassKind::Split, v);
     local_swaps(v, r);
+    touch(r, v);
     for (Vertex w : one_ring(mesh, v)) {
       const double l = mesh_.length(v, w);
       if (l > o.lmax) heap.push({l, v.idx, w.idx});
@@ -173,9 +196,9 @@ void Remesher::collapse_pass(PassReport& r) {
     }
     const Vertex v = collapse(mesh_, plan);
     ++r.collapses;
-    r.touched.push_back(v.idx);
     remember(PassKind::Collapse, v);
     local_swaps(v, r);
+    touch(r, v);
     for (Vertex w : one_ring(mesh, v)) {
       const double l = mesh_.length(v, w);
       if (l < o.lmin) heap.push({l, v.idx, w.idx});
@@ -186,8 +209,12 @@ void Remesher::collapse_pass(PassReport& r) {
 void Remesher::swap_pass(PassReport& r) {
   SurfaceMesh& mesh = mesh_.mesh();
   std::deque<std::array<int, 2>> queue;
+  std::vector<std::uint8_t> active(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
+  swap_active_.resize(active.size(), 0);
+  active.swap(swap_active_);
   for_each_edge(mesh, [&](Corner c) {
-    if (!mesh.is_boundary_edge(c)) queue.push_back({mesh.edge_from(c).idx, mesh.edge_to(c).idx});
+    const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
+    if (!mesh.is_boundary_edge(c) && (active[a.idx] || active[b.idx])) queue.push_back({a.idx, b.idx});
   });
   long long budget = static_cast<long long>(options_.max_swap_sweeps) * static_cast<long long>(queue.size()) + 16;
   while (!queue.empty() && budget-- > 0) {
@@ -206,8 +233,11 @@ void Remesher::swap_pass(PassReport& r) {
     const Corner od = mesh.opposite(d);
     for (Corner x : {M::next(d), M::prev(d), M::next(od), M::prev(od)})
       queue.push_back({mesh.edge_from(x).idx, mesh.edge_to(x).idx});
-    r.touched.push_back(mesh.edge_from(d).idx);
-    r.touched.push_back(mesh.edge_to(d).idx);
+    for (Corner x : {d, od}) {
+      r.touched.push_back(mesh.vertex(x).idx);
+      mark(mesh.vertex(x));
+      mark(mesh.edge_from(x));
+    }
   }
 }
 
@@ -215,9 +245,12 @@ void Remesher::smooth_pass(PassReport& r) {
   SurfaceMesh& mesh = mesh_.mesh();
   OperatorOptions o = options_.op;
   if (smoothing_done_ < options_.relaxed_smoothing_passes) o.move_quality_factor = options_.relaxed_quality_factor;
+  std::vector<std::uint8_t> active(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
+  smooth_active_.resize(active.size(), 0);
+  active.swap(smooth_active_);
   for (int i = 0; i < mesh.vertex_capacity(); ++i) {
     const Vertex v(i);
-    if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+    if (!active[i] || mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
     const MovePlan plan = can_move(mesh_, v, o);
     if (plan.why != Rejection::None) {
       if (plan.why != Rejection::Fixed && plan.why != Rejection::NoGain) ++r.rejected[static_cast<int>(plan.why)];
@@ -225,7 +258,7 @@ void Remesher::smooth_pass(PassReport& r) {
     }
     move(mesh_, v, plan);
     ++r.moves;
-    r.touched.push_back(i);
+    touch(r, v);
   }
   ++smoothing_done_;
 }
@@ -246,10 +279,11 @@ void Remesher::final_pass(PassReport& r) {
     }
     const Vertex k = collapse(mesh_, plan);
     ++r.removed_vertices;
-    r.touched.push_back(k.idx);
     local_swaps(k, r);
+    touch(r, k);
   }
   // 2: the vertices are barycentred (section 5.5) 8-10 times.
+  mark_all();
   for (int p = 0; p < options_.final_smoothing_passes; ++p) {
     const int before = r.moves;
     smooth_pass(r);

@@ -4,7 +4,8 @@
 // around the modified vertex, global swap passes, smoothing passes (eq. 19),
 // a cache of the last modifications against cycles (Remark 5), and the final
 // optimisation (interior vertices of valence < 4 removed, 8-10 smoothing
-// passes).
+// passes). Swap and smoothing passes after the first visit only the
+// neighbourhoods of what changed since.
 //
 //   Remesher r(adapted_mesh);
 //   PassReport s = r.step(PassKind::Split);   // one named pass
@@ -100,11 +101,18 @@ class Remesher {
   // last cache_size ones (undoing it could cycle).
   bool in_cache(Vertex a, Vertex b, PassKind undoing) const;
   void fill_state(PassReport& r) const;
+  // Records v as touched by the pass and marks it and its neighbours for the
+  // next swap and smoothing passes (which only visit marked vertices: the
+  // first ones, and the final optimisation, visit all).
+  void touch(PassReport& r, Vertex v);
+  void mark(Vertex v);
+  void mark_all();
 
   AdaptedMesh& mesh_;
   RemeshOptions options_;
   std::deque<Modification> cache_;
   int smoothing_done_ = 0;
+  std::vector<std::uint8_t> swap_active_, smooth_active_;  // per vertex slot
   int iteration_ = 0;
 };
 
