@@ -46,6 +46,11 @@ void HeadlessRenderer::layout_ui(Scene& scene, UiState& ui, int width, int heigh
 }
 
 Image HeadlessRenderer::render(Scene& scene, UiState& ui, int width, int height, int ui_frames) {
+  return render(scene, [&](int w, int h) { draw_ui(scene, ui, w, h); }, width, height, ui_frames);
+}
+
+Image HeadlessRenderer::render(Scene& scene, const std::function<void(int, int)>& ui, int width, int height,
+                               int ui_frames) {
   if (impl_->context.width() != width || impl_->context.height() != height) impl_->context.resize(width, height);
   impl_->renderer.draw(scene, width, height);
   ImGuiIO& io = ImGui::GetIO();
@@ -57,7 +62,7 @@ Image HeadlessRenderer::render(Scene& scene, UiState& ui, int width, int height,
     impl_->renderer.present();
     ImGui_ImplOpenGL3_NewFrame();
     ImGui::NewFrame();
-    draw_ui(scene, ui, width, height);
+    ui(width, height);
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
   }

@@ -1,6 +1,7 @@
 // Headless pictures: an OSMesa context, the renderer and Dear ImGui's OpenGL3
 // backend, reused across shots of the same session (tests take several).
 #pragma once
+#include <functional>
 #include <memory>
 
 #include "render/image.h"
@@ -23,6 +24,10 @@ class HeadlessRenderer {
   // top-down. ImGui runs `ui_frames` frames so auto-sized windows settle; the
   // output depends only on the inputs (same pixels every time).
   Image render(Scene& scene, UiState& ui, int width, int height, int ui_frames = 3);
+
+  // The same with the caller's ImGui windows: `ui(width, height)` is called
+  // between ImGui::NewFrame() and ImGui::Render() of each frame.
+  Image render(Scene& scene, const std::function<void(int, int)>& ui, int width, int height, int ui_frames = 3);
 
   // Runs the ImGui frames alone (no drawing) so that ui.legend_width is
   // known before the camera is fitted (Scene::fit_camera's reserve).

@@ -1,0 +1,168 @@
+#include "editor/adaptation.h"
+
+#include <chrono>
+
+#include "core/error.h"
+#include "remesh/reference.h"
+
+namespace anisurf::editor {
+
+using remesh::PassKind;
+using Clock = std::chrono::steady_clock;
+
+Adaptation::Adaptation(const SurfaceMesh& input, MetricField metric, const AdaptSettings& settings,
+                       std::shared_ptr<const Snapshot> initial)
+    : input_(input), settings_(settings), metric_(std::move(metric)) {
+  timeline_.push_back(std::move(initial));
+}
+
+Adaptation::~Adaptation() {
+  stop_ = true;
+  if (worker_.joinable()) worker_.join();
+}
+
+void Adaptation::wait() {
+  if (worker_.joinable()) worker_.join();
+}
+
+std::vector<std::shared_ptr<const Snapshot>> Adaptation::timeline() const {
+  std::lock_guard lock(mutex_);
+  return timeline_;
+}
+
+std::size_t Adaptation::size() const {
+  std::lock_guard lock(mutex_);
+  return timeline_.size();
+}
+
+std::string Adaptation::error() const {
+  std::lock_guard lock(mutex_);
+  return error_;
+}
+
+void Adaptation::truncate(std::size_t keep) {
+  if (running_) return;
+  std::lock_guard lock(mutex_);
+  if (keep >= 1 && keep < timeline_.size()) {
+    timeline_.resize(keep);
+    ++version_;
+  }
+}
+
+void Adaptation::start(std::size_t from, int max_passes) {
+  if (running_) return;
+  if (worker_.joinable()) worker_.join();
+  {
+    std::lock_guard lock(mutex_);
+    if (from >= timeline_.size()) from = timeline_.size() - 1;
+    if (timeline_[from]->schedule.phase == Schedule::Phase::Done) return;
+    error_.clear();
+  }
+  stop_ = false;
+  running_ = true;
+  worker_ = std::thread([this, from, max_passes] { work(from, max_passes); });
+}
+
+PassKind Adaptation::next_kind(const Schedule& s) const {
+  switch (s.phase) {
+    case Schedule::Phase::Initial: return PassKind::Swap;
+    case Schedule::Phase::Round: {
+      static constexpr PassKind order[3] = {PassKind::Split, PassKind::Collapse, PassKind::Swap};
+      return s.pass < 3 ? order[s.pass] : PassKind::Smooth;
+    }
+    default: return PassKind::Final;
+  }
+}
+
+void Adaptation::advance(Schedule& s, const remesh::PassReport& r, int n_vertices) const {
+  const auto& o = settings_.remesh;
+  switch (s.phase) {
+    case Schedule::Phase::Initial:
+      s = Schedule{Schedule::Phase::Round, 1, 0, 0};
+      break;
+    case Schedule::Phase::Round:
+      if (r.kind == PassKind::Split || r.kind == PassKind::Collapse) s.round_changes += r.splits + r.collapses;
+      if (++s.pass >= 3 + o.smoothing_passes) {
+        const bool converged = s.round_changes <= settings_.converged_share * n_vertices;
+        if (converged || s.round >= o.max_iterations) {
+          s.phase = Schedule::Phase::Final;
+        } else {
+          ++s.round;
+          s.pass = 0;
+          s.round_changes = 0;
+        }
+      }
+      break;
+    case Schedule::Phase::Final:
+    case Schedule::Phase::Done:
+      s.phase = Schedule::Phase::Done;
+      break;
+  }
+}
+
+void Adaptation::rebuild_from(const Snapshot& s) {
+  if (!geometry_) {
+    if (settings_.g1_surface)
+      geometry_ = std::make_unique<remesh::BezierGeometry>(input_);
+    else
+      geometry_ = std::make_unique<remesh::PolyhedralSurface>(input_);
+    control_ = std::make_unique<remesh::ControlSpace>(input_, metric_, true);
+  }
+  remesher_.reset();
+  adapted_.reset();
+  adapted_ = std::make_unique<remesh::AdaptedMesh>(s.mesh, *geometry_, *control_);
+  remesher_ = std::make_unique<remesh::Remesher>(*adapted_, settings_.remesh);
+  schedule_ = s.schedule;
+}
+
+void Adaptation::work(std::size_t from, int max_passes) {
+  try {
+    std::shared_ptr<const Snapshot> start;
+    {
+      std::lock_guard lock(mutex_);
+      if (timeline_.size() > from + 1) {
+        timeline_.resize(from + 1);
+        ++version_;
+      }
+      start = timeline_[from];
+    }
+    if (built_from_ != from || !remesher_) rebuild_from(*start);
+    for (int done = 0; (max_passes <= 0 || done < max_passes) && !stop_; ++done) {
+      if (schedule_.phase == Schedule::Phase::Done) break;
+      const PassKind kind = next_kind(schedule_);
+      remesh::PassReport r = remesher_->step(kind);
+      r.iteration = schedule_.round;
+      const auto t0 = Clock::now();
+      const SurfaceMesh& m = adapted_->mesh();
+      advance(schedule_, r, m.n_vertices());
+      auto snap = std::make_shared<Snapshot>();
+      snap->mesh = m;
+      snap->metric.resize(static_cast<std::size_t>(m.vertex_capacity()));
+      for (int v = 0; v < m.vertex_capacity(); ++v)
+        snap->metric[v] = m.is_deleted(Vertex(v)) ? SymTensor3::identity(1.0) : adapted_->metric(Vertex(v));
+      snap->has_report = true;
+      snap->schedule = schedule_;
+      snap->label = (r.iteration > 0 ? std::to_string(r.iteration) + " " : std::string()) +
+                    std::string(remesh::pass_name(kind));
+      snap->report = std::move(r);
+      last_pass_seconds_ = snap->report.seconds;
+      last_snapshot_seconds_ = std::chrono::duration<double>(Clock::now() - t0).count();
+      {
+        std::lock_guard lock(mutex_);
+        timeline_.push_back(std::move(snap));
+        built_from_ = timeline_.size() - 1;
+        ++version_;
+      }
+    }
+  } catch (const std::exception& e) {
+    std::lock_guard lock(mutex_);
+    error_ = e.what();
+    built_from_ = static_cast<std::size_t>(-1);
+    remesher_.reset();
+    adapted_.reset();
+    ++version_;
+  }
+  running_ = false;
+}
+
+}  // namespace anisurf::editor

@@ -1,0 +1,104 @@
+// The adaptation of the editor: the remesher of engine/remesh driven pass by
+// pass in a worker thread, with a snapshot of the mesh after every pass (the
+// timeline the Adaptation panel scrubs). The schedule is Remesher::run()'s
+// (initial swaps; rounds of split, collapse, swap, smoothing until a round
+// changes at most a small share of the vertices; the final optimisation),
+// kept here as explicit state so that a run can pause after any pass,
+// resume, or restart from any snapshot.
+#pragma once
+#include <atomic>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "mesh/surface_mesh.h"
+#include "metric/metric_field.h"
+#include "remesh/remesher.h"
+
+namespace anisurf::editor {
+
+struct AdaptSettings {
+  remesh::RemeshOptions remesh;      // lmin / lmax, passes per round ...
+  bool g1_surface = true;            // project on the G1 Bezier surface (else the polyhedral one)
+  double converged_share = 0.005;    // a round splitting + collapsing <= this share of the vertices ends the loop
+};
+
+// Where the schedule stands (saved in every snapshot, so a restart from a
+// snapshot continues the same schedule).
+struct Schedule {
+  enum class Phase { Initial, Round, Final, Done };
+  Phase phase = Phase::Initial;
+  int round = 0;        // 1-based in Round
+  int pass = 0;         // index of the next pass inside the round
+  int round_changes = 0;  // splits + collapses of the round so far
+};
+
+// One state of the timeline: the mesh (T_1), the metric per vertex slot,
+// the pass that produced it (absent for the initial state) and the schedule
+// after it.
+struct Snapshot {
+  SurfaceMesh mesh;
+  MetricField metric;
+  bool has_report = false;
+  remesh::PassReport report;
+  Schedule schedule;
+  std::string label;  // "initial", "3 split" ...
+};
+
+class Adaptation {
+ public:
+  // T_0 = `input` (features tagged; must outlive the adaptation) with
+  // `metric`. The timeline starts with `initial` (T_0's snapshot).
+  Adaptation(const SurfaceMesh& input, MetricField metric, const AdaptSettings& settings,
+             std::shared_ptr<const Snapshot> initial);
+  ~Adaptation();  // stops the worker (after its current pass)
+  Adaptation(const Adaptation&) = delete;
+  Adaptation& operator=(const Adaptation&) = delete;
+
+  // Starts the worker from snapshot `from` (cutting the timeline after it)
+  // for at most max_passes passes (0: until the schedule is done). No-op if
+  // the worker runs or the schedule is done.
+  void start(std::size_t from, int max_passes);
+  void request_stop() { stop_ = true; }
+  void wait();
+  bool running() const { return running_; }
+  // Drops the snapshots after `keep` (worker idle).
+  void truncate(std::size_t keep);
+
+  std::vector<std::shared_ptr<const Snapshot>> timeline() const;
+  std::size_t size() const;
+  std::uint64_t version() const { return version_; }
+  std::string error() const;
+  // Seconds of the last pass and the time to take its snapshot.
+  double last_pass_seconds() const { return last_pass_seconds_; }
+  double last_snapshot_seconds() const { return last_snapshot_seconds_; }
+
+ private:
+  void work(std::size_t from, int max_passes);
+  void rebuild_from(const Snapshot& s);
+  remesh::PassKind next_kind(const Schedule& s) const;
+  void advance(Schedule& s, const remesh::PassReport& r, int n_vertices) const;
+
+  const SurfaceMesh& input_;
+  AdaptSettings settings_;
+  std::unique_ptr<remesh::GeometrySurface> geometry_;
+  std::unique_ptr<remesh::ControlSpace> control_;
+  std::unique_ptr<remesh::AdaptedMesh> adapted_;
+  std::unique_ptr<remesh::Remesher> remesher_;
+  MetricField metric_;
+  std::size_t built_from_ = static_cast<std::size_t>(-1);  // timeline index the remesher state is at
+  Schedule schedule_;
+
+  mutable std::mutex mutex_;
+  std::vector<std::shared_ptr<const Snapshot>> timeline_;
+  std::string error_;
+  std::thread worker_;
+  std::atomic<bool> stop_{false}, running_{false};
+  std::atomic<std::uint64_t> version_{1};
+  std::atomic<double> last_pass_seconds_{0}, last_snapshot_seconds_{0};
+};
+
+}  // namespace anisurf::editor

@@ -1,0 +1,402 @@
+// The editor window: GLFW + the renderer + the panels; mouse: orbit / pan /
+// zoom, or paint with the brush; drag and drop to open; the script player;
+// the autosave; the quit confirmation.
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <thread>
+
+#include "core/error.h"
+#include "editor/editor_app.h"
+#include "editor/editor_view.h"
+#include "editor/panels.h"
+#include "editor/script.h"
+#include "render/gl.h"
+#include "render/gpu_error.h"
+#include "render/image.h"
+#include "render/renderer.h"
+
+namespace anisurf::editor {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct App {
+  EditorSession session;
+  ViewState view;
+  PanelState panels;
+  render::Scene scene;
+  render::UiState ui;
+  EditorView ev;
+  double mx = 0, my = 0;
+  bool rotating = false, panning = false, painting = false;
+  bool have_last_dab = false;
+  Vec3 last_dab;
+  std::vector<std::string> dropped;
+  bool close_requested = false;
+  Clock::time_point last_event = Clock::now();
+};
+
+App& app_of(GLFWwindow* w) { return *static_cast<App*>(glfwGetWindowUserPointer(w)); }
+
+void paint_at(App& a, GLFWwindow* w) {
+  int ww = 1, wh = 1, fw = 1, fh = 1;
+  glfwGetWindowSize(w, &ww, &wh);
+  glfwGetFramebufferSize(w, &fw, &fh);
+  const float sx = static_cast<float>(fw) / static_cast<float>(ww), sy = static_cast<float>(fh) / static_cast<float>(wh);
+  auto h = a.ev.hover(a.scene, static_cast<float>(a.mx) * sx, static_cast<float>(a.my) * sy, fw, fh);
+  if (!h) return;
+  const double spacing = 0.25 * a.session.brush().radius;
+  if (a.have_last_dab && norm(h->point - a.last_dab) < spacing) return;
+  const Vec3 dir = a.have_last_dab ? h->point - a.last_dab : Vec3();
+  try {
+    a.session.dab(h->point, dir);
+  } catch (const std::exception& e) {
+    a.panels.message = e.what();
+    a.panels.message_is_error = true;
+  }
+  a.last_dab = h->point;
+  a.have_last_dab = true;
+}
+
+void on_mouse_button(GLFWwindow* w, int button, int action, int mods) {
+  App& a = app_of(w);
+  a.last_event = Clock::now();
+  const bool press = action == GLFW_PRESS;
+  if (press && ImGui::GetIO().WantCaptureMouse) return;
+  glfwGetCursorPos(w, &a.mx, &a.my);
+  if (button == GLFW_MOUSE_BUTTON_LEFT && a.view.paint_tool && !(mods & GLFW_MOD_SHIFT)) {
+    if (press && a.session.has_mesh()) {
+      a.session.begin_stroke();
+      a.painting = true;
+      a.have_last_dab = false;
+      paint_at(a, w);
+    } else if (!press && a.painting) {
+      a.painting = false;
+      a.session.end_stroke();
+    }
+    return;
+  }
+  if (button == GLFW_MOUSE_BUTTON_LEFT && !(mods & GLFW_MOD_SHIFT)) a.rotating = press;
+  if (button == GLFW_MOUSE_BUTTON_RIGHT || button == GLFW_MOUSE_BUTTON_MIDDLE ||
+      (button == GLFW_MOUSE_BUTTON_LEFT && (mods & GLFW_MOD_SHIFT)))
+    a.panning = press;
+  if (!press) a.rotating = a.panning = false;
+}
+
+void on_cursor(GLFWwindow* w, double x, double y) {
+  App& a = app_of(w);
+  a.last_event = Clock::now();
+  const double dx = x - a.mx, dy = y - a.my;
+  a.mx = x;
+  a.my = y;
+  int ww = 1, wh = 1;
+  glfwGetWindowSize(w, &ww, &wh);
+  if (a.painting) paint_at(a, w);
+  if (a.rotating) a.scene.camera.orbit(static_cast<float>(-dx / wh * 3.0), static_cast<float>(dy / wh * 3.0));
+  if (a.panning) a.scene.camera.pan(static_cast<float>(dx / wh), static_cast<float>(-dy / wh));
+}
+
+void on_scroll(GLFWwindow* w, double, double dy) {
+  App& a = app_of(w);
+  a.last_event = Clock::now();
+  if (ImGui::GetIO().WantCaptureMouse) return;
+  a.scene.camera.zoom(static_cast<float>(std::pow(0.88, dy)));
+}
+
+void on_key(GLFWwindow* w, int key, int, int action, int mods) {
+  App& a = app_of(w);
+  a.last_event = Clock::now();
+  if (action != GLFW_PRESS || ImGui::GetIO().WantCaptureKeyboard) return;
+  const bool ctrl = mods & GLFW_MOD_CONTROL;
+  auto view = [&](render::NamedView v) { a.view.view_request = v; };
+  try {
+    switch (key) {
+      case GLFW_KEY_1: view(render::NamedView::Iso); break;
+      case GLFW_KEY_2: view(render::NamedView::Front); break;
+      case GLFW_KEY_3: view(render::NamedView::Back); break;
+      case GLFW_KEY_4: view(render::NamedView::Left); break;
+      case GLFW_KEY_5: view(render::NamedView::Right); break;
+      case GLFW_KEY_6: view(render::NamedView::Top); break;
+      case GLFW_KEY_7: view(render::NamedView::Bottom); break;
+      case GLFW_KEY_F: a.view.fit_request = true; break;
+      case GLFW_KEY_G: a.view.glyphs = !a.view.glyphs; break;
+      case GLFW_KEY_W: a.view.wireframe = !a.view.wireframe; break;
+      case GLFW_KEY_B: a.view.paint_tool = !a.view.paint_tool; break;
+      case GLFW_KEY_Z:
+        if (ctrl) (mods & GLFW_MOD_SHIFT) ? a.session.redo() : a.session.undo();
+        break;
+      case GLFW_KEY_Y:
+        if (ctrl) a.session.redo();
+        break;
+      case GLFW_KEY_SPACE: a.session.step(); break;
+      case GLFW_KEY_R: a.session.running() ? a.session.pause() : a.session.run(); break;
+      case GLFW_KEY_ESCAPE: a.view.paint_tool = false; break;
+      default: break;
+    }
+  } catch (const std::exception& e) {
+    a.panels.message = e.what();
+    a.panels.message_is_error = true;
+  }
+}
+
+void on_drop(GLFWwindow* w, int count, const char** paths) {
+  App& a = app_of(w);
+  for (int i = 0; i < count; ++i) a.dropped.emplace_back(paths[i]);
+}
+
+void on_close(GLFWwindow* w) {
+  App& a = app_of(w);
+  if (a.session.dirty() && !a.panels.quit_confirmed) {
+    glfwSetWindowShouldClose(w, GLFW_FALSE);
+    a.panels.quit_requested = true;
+  }
+}
+
+// Opens dropped files: a .sol goes with the open mesh (or the mesh dropped
+// with it), anything else is opened as a mesh.
+void open_dropped(App& a) {
+  if (a.dropped.empty()) return;
+  std::string mesh, sol;
+  for (const auto& p : a.dropped) {
+    std::string ext = std::filesystem::path(p).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    (ext == ".sol" ? sol : mesh) = p;
+  }
+  a.dropped.clear();
+  if (mesh.empty()) mesh = a.session.has_mesh() ? a.session.mesh_path() : "";
+  if (mesh.empty()) return;
+  try {
+    a.session.open(mesh, sol);
+    remember_recent(a.panels, mesh + (sol.empty() ? "" : "|" + sol));
+    a.panels.open_path = mesh;
+    a.panels.open_sol = sol;
+    a.panels.edit_valid = false;
+    a.view.fit_request = true;
+    a.panels.message = "opened " + mesh;
+    a.panels.message_is_error = false;
+  } catch (const std::exception& e) {
+    a.panels.message = e.what();
+    a.panels.message_is_error = true;
+  }
+}
+
+void write_autosave(const EditorSession& s, std::size_t* saved_lines) {
+  if (s.journal().size() == *saved_lines) return;
+  const std::string path = autosave_path();
+  std::error_code ec;
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
+  std::ofstream out(path + ".tmp");
+  out << "# anisurf editor session (autosave): replay with anisurf --script " << path << "\n";
+  for (const auto& l : s.journal()) out << l << "\n";
+  out.close();
+  if (out) std::filesystem::rename(path + ".tmp", path, ec);
+  *saved_lines = s.journal().size();
+}
+
+struct GlfwLib {
+  GlfwLib() {
+    if (!glfwInit()) {
+      const char* d = std::getenv("DISPLAY");
+      throw render::GlError(std::string("cannot open a window") +
+                            (d && *d ? "" : " (no DISPLAY: use anisurf --script FILE --headless, or xvfb-run)"));
+    }
+  }
+  ~GlfwLib() { glfwTerminate(); }
+};
+
+}  // namespace
+
+std::string autosave_path() {
+  const char* state = std::getenv("XDG_STATE_HOME");
+  const char* home = std::getenv("HOME");
+  std::filesystem::path base = state && *state ? std::filesystem::path(state)
+                               : home && *home  ? std::filesystem::path(home) / ".local" / "state"
+                                                : std::filesystem::temp_directory_path();
+  return (base / "anisurf" / "autosave.anisurf").string();
+}
+
+int run_editor_window(const std::string& mesh, const std::string& sol, const ScriptOptions& o) {
+  std::vector<ScriptLine> script;
+  if (!o.script.empty()) script = read_script(o.script);
+  GlfwLib glfw;
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  GLFWwindow* window = glfwCreateWindow(o.width, o.height, "anisurf editor", nullptr, nullptr);
+  if (!window) throw render::GlError("cannot create an OpenGL 3.3 core window");
+  struct WindowGuard {
+    GLFWwindow* w;
+    ~WindowGuard() { glfwDestroyWindow(w); }
+  } guard{window};
+  glfwMakeContextCurrent(window);
+  auto missing = gl::load_gl(reinterpret_cast<gl::GetProcAddress>(&glfwGetProcAddress));
+  if (!missing.empty()) throw render::GlError("the window's OpenGL lacks " + missing.front());
+  glfwSwapInterval(1);
+
+  App a;
+  glfwSetWindowUserPointer(window, &a);
+  glfwSetMouseButtonCallback(window, on_mouse_button);
+  glfwSetCursorPosCallback(window, on_cursor);
+  glfwSetScrollCallback(window, on_scroll);
+  glfwSetKeyCallback(window, on_key);
+  glfwSetDropCallback(window, on_drop);
+  glfwSetWindowCloseCallback(window, on_close);
+
+  render::Renderer renderer;
+  render::ImGuiSession imgui;
+  ImGui_ImplGlfw_InitForOpenGL(window, true);
+  ImGui_ImplOpenGL3_Init("#version 330 core");
+  struct BackendGuard {
+    ~BackendGuard() {
+      ImGui_ImplOpenGL3_Shutdown();
+      ImGui_ImplGlfw_Shutdown();
+    }
+  } backends;
+
+  if (!mesh.empty()) {
+    a.session.open(mesh, sol);
+    a.panels.open_path = mesh;
+    a.panels.open_sol = sol;
+    remember_recent(a.panels, mesh + (sol.empty() ? "" : "|" + sol));
+  }
+  std::size_t next_line = 0, autosaved = 0;
+  std::string pending_shot;
+  int exit_code = 0;
+  bool quit = false;
+  ScriptHost host;
+  host.screenshot = [&](const std::string& p) { pending_shot = p; };
+  host.quit = [&] { quit = true; };
+  a.panels.screenshot = [&](const std::string& p) { pending_shot = p; };
+  auto last_autosave = Clock::now();
+
+  // Frame statistics while the adaptation runs (the responsiveness measure).
+  int run_frames = 0;
+  double run_seconds = 0, run_worst = 0;
+  Clock::time_point run_start;
+  bool was_running = false;
+  float fps_frames = 0;
+  auto fps_start = Clock::now();
+  const auto budget = std::chrono::duration<double>(1.0 / std::max(o.max_fps, 1.0));
+  int shots_waiting_frames = 0;
+
+  for (int frame = 0; !glfwWindowShouldClose(window) && !quit; ++frame) {
+    const auto frame_start = Clock::now();
+    const bool busy = a.session.running() || next_line < script.size() || !pending_shot.empty();
+    if (!busy && frame_start - a.last_event > std::chrono::seconds(1))
+      glfwWaitEventsTimeout(0.25);
+    else
+      glfwPollEvents();
+    open_dropped(a);
+    if (a.panels.quit_confirmed) glfwSetWindowShouldClose(window, GLFW_TRUE);
+
+    // The script: the next line once the adaptation is idle and the last
+    // screenshot is written.
+    if (next_line < script.size() && !a.session.running() && pending_shot.empty()) {
+      const ScriptLine& line = script[next_line++];
+      try {
+        if (const std::string err = a.session.adaptation_error(); !err.empty()) throw Error(err);
+        execute(line, a.session, a.view, host);
+        if (line.words[0] == "open") {
+          a.panels.open_path = line.words[1];
+          a.panels.edit_valid = false;
+        }
+      } catch (const std::exception& e) {
+        std::cerr << "anisurf: " << e.what() << "\n";
+        exit_code = 1;
+        break;
+      }
+      if (!pending_shot.empty()) shots_waiting_frames = 3;  // let panels settle first
+    }
+
+    int fbw = 0, fbh = 0;
+    glfwGetFramebufferSize(window, &fbw, &fbh);
+    if (fbw <= 0 || fbh <= 0) continue;
+    const float aspect = static_cast<float>(fbw) / static_cast<float>(fbh);
+    if (frame == 3 && !a.view.frame_selection) a.view.fit_request = true;  // panel widths known now
+    a.ev.update(a.session, a.view, a.scene, aspect, a.ui.left_reserve(fbw), a.ui.right_reserve(fbw));
+    // Hover: the element under the mouse (not while dragging).
+    a.panels.hover.reset();
+    if (!a.rotating && !a.panels.quit_requested && frame_start - a.last_event < std::chrono::seconds(2)) {
+      int ww = 1, wh = 1;
+      glfwGetWindowSize(window, &ww, &wh);
+      a.panels.hover = a.ev.hover(a.scene, static_cast<float>(a.mx * fbw / ww), static_cast<float>(a.my * fbh / wh), fbw, fbh);
+    }
+    const bool moving = a.rotating || a.panning;
+    renderer.render(a.scene, fbw, fbh, moving ? 1 : a.scene.display.msaa_samples);
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    draw_panels(a.session, a.view, a.panels, a.scene, a.ui, fbw, fbh);
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    if (!pending_shot.empty() && --shots_waiting_frames <= 0) {
+      render::Image img(fbw, fbh);
+      gl::glPixelStorei(GL_PACK_ALIGNMENT, 1);
+      gl::glReadPixels(0, 0, fbw, fbh, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
+      img.flip_rows();
+      for (std::size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 255;
+      std::error_code ec;
+      const auto parent = std::filesystem::path(pending_shot).parent_path();
+      if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+      render::write_png(pending_shot, img);
+      std::fprintf(stderr, "screenshot %s (%dx%d)\n", pending_shot.c_str(), fbw, fbh);
+      a.panels.message = "wrote " + pending_shot;
+      pending_shot.clear();
+    }
+    glfwSwapBuffers(window);
+
+    // Statistics and autosave.
+    const auto now = Clock::now();
+    const double dt = std::chrono::duration<double>(now - frame_start).count();
+    const bool running = a.session.running();
+    if (running && !was_running) {
+      run_frames = 0;
+      run_seconds = run_worst = 0;
+      run_start = now;
+    }
+    if (running) {
+      ++run_frames;
+      run_worst = std::max(run_worst, dt);
+    }
+    if (!running && was_running) {
+      run_seconds = std::chrono::duration<double>(now - run_start).count();
+      const auto tl = a.session.timeline();
+      std::fprintf(stderr,
+                   "adaptation: %zu passes in %.2f s while the window drew %d frames (%.1f fps, slowest frame %.0f ms); "
+                   "last pass %.3f s + view rebuild %.3f s\n",
+                   tl.size() - 1, run_seconds, run_frames, run_frames / std::max(run_seconds, 1e-9), 1000 * run_worst,
+                   tl.back()->has_report ? tl.back()->report.seconds : 0.0, a.ev.last_build_seconds());
+    }
+    was_running = running;
+    ++fps_frames;
+    const double since = std::chrono::duration<double>(now - fps_start).count();
+    if (since >= 0.5) {
+      a.panels.fps = static_cast<float>(fps_frames / since);
+      fps_frames = 0;
+      fps_start = now;
+    }
+    if (now - last_autosave > std::chrono::seconds(5) && script.empty()) {
+      write_autosave(a.session, &autosaved);
+      last_autosave = now;
+    }
+    std::this_thread::sleep_until(frame_start + std::chrono::duration_cast<Clock::duration>(budget));
+  }
+  if (script.empty()) write_autosave(a.session, &autosaved);
+  a.session.pause();
+  a.session.wait();
+  return exit_code;
+}
+
+}  // namespace anisurf::editor

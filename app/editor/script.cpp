@@ -1,0 +1,291 @@
+#include "editor/script.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+
+namespace anisurf::editor {
+
+bool is_color_mode(const std::string& mode) {
+  for (const char* m : kColorModes)
+    if (mode == m) return true;
+  return false;
+}
+
+std::vector<std::string> split_words(const std::string& text) {
+  std::string t = text.substr(0, text.find('#'));
+  std::istringstream in(t);
+  std::vector<std::string> w;
+  for (std::string s; in >> s;) w.push_back(s);
+  return w;
+}
+
+std::vector<ScriptLine> read_script(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot read the script");
+  std::vector<ScriptLine> out;
+  std::string text;
+  for (int n = 1; std::getline(in, text); ++n) {
+    if (!text.empty() && text.back() == '\r') text.pop_back();
+    auto words = split_words(text);
+    if (words.empty()) continue;
+    out.push_back({path, n, text, std::move(words)});
+  }
+  return out;
+}
+
+namespace {
+
+struct LineError {
+  std::string message;
+};
+
+double number(const ScriptLine& l, std::size_t i, const char* what) {
+  if (i >= l.words.size()) throw LineError{l.words[0] + ": missing " + what};
+  const std::string& s = l.words[i];
+  try {
+    std::size_t used = 0;
+    double v = std::stod(s, &used);
+    if (used != s.size() || !std::isfinite(v)) throw std::invalid_argument(s);
+    return v;
+  } catch (const std::exception&) {
+    throw LineError{l.words[0] + ": " + what + " expects a number, got '" + s + "'"};
+  }
+}
+
+void arity(const ScriptLine& l, std::size_t lo, std::size_t hi, const char* usage) {
+  const std::size_t n = l.words.size() - 1;
+  if (n < lo || n > hi) throw LineError{"usage: " + std::string(usage)};
+}
+
+bool on_off(const ScriptLine& l, const char* usage) {
+  arity(l, 1, 1, usage);
+  if (l.words[1] == "on") return true;
+  if (l.words[1] == "off") return false;
+  throw LineError{"usage: " + std::string(usage)};
+}
+
+// The rest of the line after the first `skip` words (expressions may hold spaces).
+std::string rest_of(const ScriptLine& l, std::size_t skip) {
+  std::string t = l.text.substr(0, l.text.find('#'));
+  std::size_t pos = 0;
+  for (std::size_t i = 0; i < skip; ++i) {
+    pos = t.find_first_not_of(" \t", pos);
+    pos = t.find_first_of(" \t", pos);
+  }
+  const std::size_t a = t.find_first_not_of(" \t", pos);
+  const std::size_t b = t.find_last_not_of(" \t");
+  return a == std::string::npos ? "" : t.substr(a, b - a + 1);
+}
+
+void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptHost& host) {
+  const std::string& cmd = l.words[0];
+  auto need_mesh = [&] {
+    if (!s.has_mesh()) throw LineError{cmd + ": no mesh: start the script with open MESH [SOL]"};
+  };
+  if (cmd == "open") {
+    arity(l, 1, 2, "open MESH [SOL]");
+    s.open(l.words[1], l.words.size() > 2 ? l.words[2] : "");
+    v.fit_request = true;
+  } else if (cmd == "metric") {
+    need_mesh();
+    if (l.words.size() < 3) throw LineError{"usage: metric iso H | size EXPR | hessian EXPR ERR | curvature HAUSD | sol FILE"};
+    MetricSettings m = s.settings();
+    const std::string& kind = l.words[1];
+    if (kind == "iso") {
+      arity(l, 2, 2, "metric iso H");
+      m.source = MetricSettings::Source::Iso;
+      m.iso = number(l, 2, "H");
+      if (!(m.iso > 0)) throw LineError{"metric iso: H must be > 0"};
+    } else if (kind == "size") {
+      m.source = MetricSettings::Source::Size;
+      m.size_expr = rest_of(l, 2);
+    } else if (kind == "hessian") {
+      if (l.words.size() < 4) throw LineError{"usage: metric hessian EXPR ERR"};
+      m.source = MetricSettings::Source::Hessian;
+      m.hessian_error = number(l, l.words.size() - 1, "ERR");
+      std::string e = rest_of(l, 2);
+      m.hessian_expr = e.substr(0, e.find_last_of(" \t"));
+      while (!m.hessian_expr.empty() && (m.hessian_expr.back() == ' ' || m.hessian_expr.back() == '\t'))
+        m.hessian_expr.pop_back();
+    } else if (kind == "curvature") {
+      arity(l, 2, 2, "metric curvature HAUSD");
+      m.source = MetricSettings::Source::Curvature;
+      m.hausd = number(l, 2, "HAUSD");
+    } else if (kind == "sol") {
+      arity(l, 2, 2, "metric sol FILE");
+      m.source = MetricSettings::Source::Sol;
+      m.sol_path = l.words[2];
+    } else {
+      throw LineError{"metric: unknown source '" + kind + "' (iso, size, hessian, curvature, sol)"};
+    }
+    s.set_settings(m);
+  } else if (cmd == "hgrad" || cmd == "hmin" || cmd == "hmax" || cmd == "max-aniso") {
+    need_mesh();
+    arity(l, 1, 1, (cmd + " VALUE").c_str());
+    MetricSettings m = s.settings();
+    const double x = number(l, 1, "VALUE");
+    if (cmd == "hgrad") m.hgrad = x;
+    if (cmd == "hmin") m.hmin = x;
+    if (cmd == "hmax") m.hmax = x > 0 ? x : INFINITY;
+    if (cmd == "max-aniso") m.max_aniso = x >= 1 ? x : INFINITY;
+    s.set_settings(m);
+  } else if (cmd == "brush") {
+    if (l.words.size() >= 2 && l.words[1] == "direction") {
+      arity(l, 2, 2, "brush direction stroke|max-curvature|min-curvature");
+      const std::string& d = l.words[2];
+      if (d == "stroke") s.brush().direction = Brush::Direction::Stroke;
+      else if (d == "max-curvature") s.brush().direction = Brush::Direction::MaxCurvature;
+      else if (d == "min-curvature") s.brush().direction = Brush::Direction::MinCurvature;
+      else throw LineError{"usage: brush direction stroke|max-curvature|min-curvature"};
+    } else {
+      arity(l, 1, 2, "brush set|smooth|erase [STRENGTH]");
+      const std::string& m = l.words[1];
+      if (m == "set") s.brush().mode = Brush::Mode::Set;
+      else if (m == "smooth") s.brush().mode = Brush::Mode::Smooth;
+      else if (m == "erase") s.brush().mode = Brush::Mode::Erase;
+      else throw LineError{"usage: brush set|smooth|erase [STRENGTH]"};
+      if (l.words.size() > 2) {
+        const double st = number(l, 2, "STRENGTH");
+        if (!(st > 0 && st <= 1)) throw LineError{"brush: STRENGTH must be in (0, 1]"};
+        s.brush().strength = st;
+      }
+    }
+  } else if (cmd == "paint") {
+    need_mesh();
+    if (l.words.size() != 6 && l.words.size() != 10) throw LineError{"usage: paint X Y Z RADIUS SIZE [STRETCH DIRX DIRY DIRZ]"};
+    const Vec3 c(number(l, 1, "X"), number(l, 2, "Y"), number(l, 3, "Z"));
+    Brush& b = s.brush();
+    b.radius = number(l, 4, "RADIUS");
+    b.size = number(l, 5, "SIZE");
+    if (!(b.radius > 0) || !(b.size > 0)) throw LineError{"paint: RADIUS and SIZE must be > 0"};
+    Vec3 dir;
+    b.stretch = 1;
+    if (l.words.size() == 10) {
+      b.stretch = number(l, 6, "STRETCH");
+      if (!(b.stretch >= 1)) throw LineError{"paint: STRETCH must be >= 1"};
+      dir = Vec3(number(l, 7, "DIRX"), number(l, 8, "DIRY"), number(l, 9, "DIRZ"));
+      if (b.direction == Brush::Direction::Stroke && !(norm2(dir) > 0)) throw LineError{"paint: the direction is zero"};
+    }
+    s.dab(c, dir);
+  } else if (cmd == "undo" || cmd == "redo") {
+    arity(l, 0, 0, cmd.c_str());
+    if (!(cmd == "undo" ? s.undo() : s.redo())) throw LineError{cmd + ": nothing to " + cmd};
+  } else if (cmd == "step") {
+    need_mesh();
+    arity(l, 0, 0, "step");
+    s.step();
+  } else if (cmd == "run") {
+    need_mesh();
+    arity(l, 0, 1, "run [MAXPASSES]");
+    int n = 0;
+    if (l.words.size() > 1) {
+      const double x = number(l, 1, "MAXPASSES");
+      if (x < 1 || x != std::floor(x)) throw LineError{"run: MAXPASSES must be a whole number >= 1"};
+      n = static_cast<int>(x);
+    }
+    s.run(n);
+  } else if (cmd == "reset") {
+    arity(l, 0, 0, "reset");
+    s.reset();
+  } else if (cmd == "timeline") {
+    arity(l, 1, 1, "timeline I");
+    s.scrub(static_cast<int>(number(l, 1, "I")));
+  } else if (cmd == "select-bin") {
+    need_mesh();
+    arity(l, 2, 2, "select-bin length|quality I");
+    BinKind k;
+    if (!parse_bin_kind(l.words[1], &k)) throw LineError{"usage: select-bin length|quality I"};
+    const double i = number(l, 2, "I");
+    if (i != std::floor(i)) throw LineError{"select-bin: I must be a bin number"};
+    s.select_bin(k, static_cast<int>(i));
+    if (s.selection().triangles.empty()) throw LineError{"select-bin: bin " + l.words[2] + " is empty"};
+    v.frame_selection = true;
+  } else if (cmd == "clear-selection") {
+    s.clear_selection();
+  } else if (cmd == "view") {
+    arity(l, 1, 1, "view NAME");
+    auto nv = render::parse_view(l.words[1]);
+    if (!nv) throw LineError{"view: expects " + render::view_names() + ", got '" + l.words[1] + "'"};
+    v.view_request = *nv;
+  } else if (cmd == "color") {
+    arity(l, 1, 1, "color MODE");
+    if (!is_color_mode(l.words[1])) throw LineError{"color: expects size|aniso|length|quality|ref|deviation|none, got '" + l.words[1] + "'"};
+    if (l.words[1] == "deviation" && v.bezier == 0) throw LineError{"color deviation: show the G1 surface first (bezier K)"};
+    v.color = l.words[1];
+  } else if (cmd == "glyphs") {
+    v.glyphs = on_off(l, "glyphs on|off");
+  } else if (cmd == "touched") {
+    v.show_touched = on_off(l, "touched on|off");
+  } else if (cmd == "wire") {
+    v.wireframe = on_off(l, "wire on|off");
+  } else if (cmd == "control-net") {
+    v.control_net = on_off(l, "control-net on|off");
+  } else if (cmd == "bezier") {
+    arity(l, 1, 1, "bezier K|off");
+    if (l.words[1] == "off") {
+      v.bezier = 0;
+      if (v.color == "deviation") v.color = "size";
+    } else {
+      const double k = number(l, 1, "K");
+      if (k < 1 || k > 16 || k != std::floor(k)) throw LineError{"bezier: K must be a whole number in [1, 16]"};
+      v.bezier = static_cast<int>(k);
+    }
+  } else if (cmd == "screenshot") {
+    arity(l, 1, 1, "screenshot PNG");
+    if (!host.screenshot) throw LineError{"screenshot: no renderer"};
+    host.screenshot(l.words[1]);
+  } else if (cmd == "save") {
+    need_mesh();
+    arity(l, 1, 2, "save MESH [SOL]");
+    s.wait();
+    s.save(l.words[1], l.words.size() > 2 ? l.words[2] : "");
+  } else if (cmd == "quit") {
+    arity(l, 0, 0, "quit");
+    if (host.quit) host.quit();
+  } else {
+    throw LineError{"unknown command '" + cmd + "' (see anisurf --help-script)"};
+  }
+}
+
+}  // namespace
+
+void execute(const ScriptLine& line, EditorSession& session, ViewState& view, const ScriptHost& host) {
+  try {
+    run_line(line, session, view, host);
+  } catch (const LineError& e) {
+    throw Error(line.where() + ": " + e.message);
+  } catch (const std::exception& e) {
+    throw Error(line.where() + ": " + line.words[0] + ": " + e.what());
+  }
+}
+
+const char* script_help() {
+  return "Script commands (one per line, '#' comments):\n"
+         "  open MESH [SOL]                        load a mesh (and its metric)\n"
+         "  metric iso H                           isotropic size H\n"
+         "  metric size EXPR                       size h(x,y,z) (muParser)\n"
+         "  metric hessian EXPR ERR                Hessian metric of f(x,y,z), error ERR\n"
+         "  metric curvature HAUSD                 geometric metric, chordal deviation HAUSD\n"
+         "  metric sol FILE                        metric read from a .sol\n"
+         "  hgrad R | hmin A | hmax B | max-aniso K  gradation and bounds (hgrad <= 1: off)\n"
+         "  brush set|smooth|erase [STRENGTH]      brush mode and strength (0, 1]\n"
+         "  brush direction stroke|max-curvature|min-curvature\n"
+         "  paint X Y Z RADIUS SIZE [STRETCH DIRX DIRY DIRZ]\n"
+         "                                         one dab: blend the metric towards SIZE\n"
+         "                                         (SIZE x STRETCH along DIR) within RADIUS\n"
+         "  undo | redo                            metric edits\n"
+         "  step | run [MAXPASSES] | reset         adaptation (one pass / until converged)\n"
+         "  timeline I                             show pass I of the timeline (0: initial)\n"
+         "  select-bin length|quality I            highlight a histogram bin, frame its worst\n"
+         "  clear-selection\n"
+         "  view iso|front|back|top|bottom|left|right\n"
+         "  color size|aniso|length|quality|ref|deviation|none\n"
+         "  glyphs on|off | wire on|off | touched on|off (vertices the shown pass touched)\n"
+         "  bezier K|off | control-net on|off\n"
+         "  screenshot PNG | save MESH [SOL] | quit\n";
+}
+
+}  // namespace anisurf::editor

@@ -1,0 +1,515 @@
+#include "editor/session.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "core/error.h"
+#include "geometry/features.h"
+#include "io/mesh_io.h"
+#include "metric/expression.h"
+#include "metric/hessian.h"
+#include "metric/surface_metric.h"
+
+namespace anisurf::editor {
+
+namespace {
+
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+// Metric with sizes h along the unit tangent d, h_across across it (in the
+// plane of n) and h_normal along n.
+SymTensor3 oriented_metric(const Vec3& n, const Vec3& d, double h_along, double h_across, double h_normal) {
+  return metric_from_sizes({h_along, h_across, h_normal}, {d, cross(n, d), n});
+}
+
+// Log-Euclidean blend (1 - w) A + w B, w in [0, 1].
+SymTensor3 blend(const SymTensor3& A, const SymTensor3& B, double w) {
+  if (w <= 0) return A;
+  if (w >= 1) return B;
+  const SymTensor3 la = tensor_log(A), lb = tensor_log(B);
+  SymTensor3 l;
+  for (int i = 0; i < 6; ++i) l.m[i] = (1 - w) * la.m[i] + w * lb.m[i];
+  return tensor_exp(l);
+}
+
+}  // namespace
+
+const char* source_name(MetricSettings::Source s) {
+  switch (s) {
+    case MetricSettings::Source::Iso: return "iso";
+    case MetricSettings::Source::Size: return "size";
+    case MetricSettings::Source::Hessian: return "hessian";
+    case MetricSettings::Source::Curvature: return "curvature";
+    case MetricSettings::Source::Sol: return "sol";
+  }
+  return "?";
+}
+
+std::string source_line(const MetricSettings& s) {
+  switch (s.source) {
+    case MetricSettings::Source::Iso: return "metric iso " + num(s.iso);
+    case MetricSettings::Source::Size: return "metric size " + s.size_expr;
+    case MetricSettings::Source::Hessian: return "metric hessian " + s.hessian_expr + " " + num(s.hessian_error);
+    case MetricSettings::Source::Curvature: return "metric curvature " + num(s.hausd);
+    case MetricSettings::Source::Sol: return "metric sol " + s.sol_path;
+  }
+  return {};
+}
+
+EditorSession::EditorSession() = default;
+
+EditorSession::~EditorSession() {
+  if (adaptation_) adaptation_->request_stop();
+}
+
+void EditorSession::log(const std::string& line) { journal_.push_back(line); }
+
+void EditorSession::changed() {
+  ++version_;
+  dirty_ = true;
+}
+
+std::shared_ptr<const Snapshot> EditorSession::initial_snapshot() const {
+  auto s = std::make_shared<Snapshot>();
+  s->mesh = *input_;
+  s->metric = metric_;
+  s->label = "initial";
+  return s;
+}
+
+void EditorSession::open(const std::string& mesh_path, const std::string& sol_path) {
+  BuildReport report;
+  auto mesh = std::make_unique<SurfaceMesh>(load_mesh(mesh_path, &report));
+  if (mesh->n_triangles() == 0) throw Error(mesh_path + ": the mesh has no triangles");
+  MetricField sol_metric;
+  if (!sol_path.empty()) {
+    // The editor keeps the metric apart: the fields go on a copy, T_0 has none.
+    SurfaceMesh with_fields = *mesh;
+    attach_fields(with_fields, read_sol(sol_path, report.input_vertices), report);
+    try {
+      sol_metric = metric_from_field(with_fields, {}, report.vertex_origin);
+    } catch (const MetricError& e) {
+      throw Error(sol_path + ": " + e.what());
+    }
+  }
+  detect_features(*mesh);
+
+  if (adaptation_) adaptation_->request_stop();
+  adaptation_.reset();
+  std::swap(input_, mesh);
+  vertex_origin_ = report.vertex_origin;
+  mesh_path_ = mesh_path;
+  normals_.clear();
+  curvature_.clear();
+  undo_.clear();
+  redo_.clear();
+  stroke_.reset();
+  selection_ = {};
+  scrub_ = -1;
+  MetricSettings s = settings_;
+  MetricField m;
+  if (!sol_path.empty()) {
+    s.source = MetricSettings::Source::Sol;
+    s.sol_path = sol_path;
+    m = std::move(sol_metric);
+    clamp_metric_field(*input_, m, {s.hmin, s.hmax, s.max_aniso});
+  } else {
+    if (s.source == MetricSettings::Source::Sol) s.source = MetricSettings::Source::Iso;
+    // A default iso size from the mesh: its mean edge length.
+    const BBox b = input_->bbox();
+    const double diag = norm(b.hi - b.lo);
+    if (s.source == MetricSettings::Source::Iso) s.iso = std::max(diag / 40.0, 1e-9);
+    m = compute_metric(s);
+  }
+  base_metric_ = m;
+  metric_ = std::move(m);
+  settings_ = s;
+  predicted_vertices_ = predicted_vertex_count(metric_complexity(*input_, metric_));
+  t0_snapshot_ = initial_snapshot();
+  journal_.clear();
+  logged_brush_ = "brush set 1";
+  logged_direction_.clear();
+  log("open " + mesh_path + (sol_path.empty() ? "" : " " + sol_path));
+  ++version_;
+  dirty_ = false;
+}
+
+MetricField EditorSession::compute_metric(const MetricSettings& s) const {
+  const SurfaceMesh& mesh = *input_;
+  const MetricBounds bounds{s.hmin, s.hmax, s.max_aniso};
+  if (!(s.hmin >= 0) || !(s.hmax > 0) || s.hmin > s.hmax || !(s.max_aniso >= 1))
+    throw Error("bounds: need 0 <= hmin <= hmax and max anisotropy >= 1");
+  MetricField M;
+  switch (s.source) {
+    case MetricSettings::Source::Iso:
+      if (!(s.iso > 0) || !std::isfinite(s.iso)) throw Error("metric iso: the size must be > 0");
+      M.assign(static_cast<std::size_t>(mesh.vertex_capacity()), isotropic_metric(s.iso));
+      break;
+    case MetricSettings::Source::Size:
+      M = metric_from_size_expression(mesh, s.size_expr, vertex_origin_);
+      break;
+    case MetricSettings::Source::Hessian: {
+      if (!(s.hessian_error > 0)) throw Error("metric hessian: the error must be > 0");
+      const RecoveredDerivatives d = recover_derivatives(mesh, evaluate_at_vertices(mesh, s.hessian_expr, vertex_origin_));
+      HessianMetricOptions h;
+      h.error = s.hessian_error;
+      h.bounds = bounds;
+      M = hessian_metric(mesh, d.hessian, h);
+      break;
+    }
+    case MetricSettings::Source::Curvature:
+      if (!(s.hausd > 0)) throw Error("metric curvature: hausd must be > 0");
+      M = curvature_metric(mesh, s.hausd, bounds);
+      break;
+    case MetricSettings::Source::Sol: {
+      BuildReport report;
+      SurfaceMesh copy = load_mesh(mesh_path_, &report);
+      if (copy.vertex_capacity() != mesh.vertex_capacity())
+        throw Error(s.sol_path + ": does not match the mesh's vertices");
+      attach_fields(copy, read_sol(s.sol_path, report.input_vertices), report);
+      try {
+        M = metric_from_field(copy, {}, report.vertex_origin);
+      } catch (const MetricError& e) {
+        throw Error(s.sol_path + ": " + e.what());
+      }
+      break;
+    }
+  }
+  clamp_metric_field(mesh, M, bounds);
+  if (s.hgrad > 1) {
+    GradationOptions g;
+    g.ratio = s.hgrad;
+    gradate_metric(mesh, M, g);
+  }
+  check_metric_field(mesh, M, vertex_origin_);
+  return M;
+}
+
+void EditorSession::apply_metric(MetricField m, const MetricSettings& s, bool reset_adaptation) {
+  metric_ = std::move(m);
+  settings_ = s;
+  predicted_vertices_ = predicted_vertex_count(metric_complexity(*input_, metric_));
+  t0_snapshot_ = initial_snapshot();
+  if (reset_adaptation && adaptation_) {
+    adaptation_->request_stop();
+    adaptation_.reset();
+    scrub_ = -1;
+  }
+  selection_ = {};
+  changed();
+}
+
+void EditorSession::set_settings(const MetricSettings& s) {
+  if (!input_) throw Error("no mesh: open one first");
+  if (stroke_) end_stroke();
+  MetricField m = compute_metric(s);  // throws before anything changes
+  MetricEdit e;
+  e.what = "metric " + std::string(source_name(s.source));
+  e.settings_before = settings_;
+  e.settings_after = s;
+  for (int v = 0; v < input_->vertex_capacity(); ++v) {
+    if (input_->is_deleted(Vertex(v))) continue;
+    e.vertices.push_back(v);
+    e.before.push_back(metric_[v]);
+    e.after.push_back(m[v]);
+  }
+  base_metric_ = m;
+  undo_.push_back(std::move(e));
+  redo_.clear();
+  const MetricSettings old = settings_;
+  apply_metric(std::move(m), s, true);
+  if (s.source != old.source || source_line(s) != source_line(old)) log(source_line(s));
+  if (s.hgrad != old.hgrad) log("hgrad " + num(s.hgrad));
+  if (s.hmin != old.hmin) log("hmin " + num(s.hmin));
+  if (s.hmax != old.hmax) log("hmax " + num(std::isinf(s.hmax) ? 0.0 : s.hmax));
+  if (s.max_aniso != old.max_aniso) log("max-aniso " + num(std::isinf(s.max_aniso) ? 0.0 : s.max_aniso));
+}
+
+double EditorSession::predict_vertices(const MetricSettings& s) const {
+  if (!input_) return 0;
+  return predicted_vertex_count(metric_complexity(*input_, compute_metric(s)));
+}
+
+// --- painting ---------------------------------------------------------------
+
+const std::vector<Vec3>& EditorSession::vertex_normals_cached() {
+  if (normals_.empty()) normals_ = vertex_normals(*input_);
+  return normals_;
+}
+
+const std::vector<SymTensor3>& EditorSession::curvature_cached() {
+  if (curvature_.empty()) curvature_ = recover_curvature(*input_);
+  return curvature_;
+}
+
+void EditorSession::begin_stroke() {
+  if (!input_) throw Error("no mesh: open one first");
+  if (stroke_) end_stroke();
+  stroke_.emplace();
+  const char* modes[] = {"paint", "smooth", "erase"};
+  stroke_->what = modes[static_cast<int>(brush_.mode)];
+  stroke_->settings_before = stroke_->settings_after = settings_;
+  stroke_index_.assign(static_cast<std::size_t>(input_->vertex_capacity()), -1);
+}
+
+void EditorSession::dab(const Vec3& centre, const Vec3& direction) {
+  if (!input_) throw Error("no mesh: open one first");
+  const bool own = !stroke_;
+  if (own) begin_stroke();
+  const Brush& b = brush_;
+  if (!(b.radius > 0) || !(b.size > 0) || !(b.stretch >= 1) || !(b.strength > 0))
+    throw Error("brush: need radius > 0, size > 0, stretch >= 1 and strength > 0");
+  const SurfaceMesh& mesh = *input_;
+  const auto& normals = vertex_normals_cached();
+  const double r2 = b.radius * b.radius;
+  const MetricBounds bounds{settings_.hmin, settings_.hmax, settings_.max_aniso};
+  std::vector<std::pair<int, SymTensor3>> updates;
+  for (int v = 0; v < mesh.vertex_capacity(); ++v) {
+    if (mesh.is_deleted(Vertex(v)) || mesh.is_isolated(Vertex(v))) continue;
+    const double d2 = norm2(mesh.position(Vertex(v)) - centre);
+    if (d2 >= r2) continue;
+    const double s = d2 / r2;
+    const double w = std::clamp(b.strength * (1 - s) * (1 - s), 0.0, 1.0);
+    SymTensor3 target;
+    if (b.mode == Brush::Mode::Erase) {
+      target = base_metric_[v];
+    } else if (b.mode == Brush::Mode::Smooth) {
+      // Log-Euclidean mean of the one-ring (and the vertex).
+      SymTensor3 sum = tensor_log(metric_[v]);
+      int n = 1;
+      for (Corner c : mesh.fan(Vertex(v))) {
+        const SymTensor3 l = tensor_log(metric_[mesh.vertex(SurfaceMesh::next(c)).idx]);
+        for (int i = 0; i < 6; ++i) sum.m[i] += l.m[i];
+        ++n;
+      }
+      for (double& x : sum.m) x /= n;
+      target = tensor_exp(sum);
+    } else {
+      const Vec3 nrm = norm2(normals[v]) > 0 ? normals[v] : Vec3(0, 0, 1);
+      Vec3 dir = direction;
+      if (b.direction != Brush::Direction::Stroke) {
+        const SizesDirections sd = sizes_and_directions(curvature_cached()[v]);
+        // Tangent eigenvectors: the two directions least aligned with the normal.
+        std::array<int, 3> idx = {0, 1, 2};
+        std::sort(idx.begin(), idx.end(),
+                  [&](int a, int c) { return std::abs(dot(sd.directions[a], nrm)) < std::abs(dot(sd.directions[c], nrm)); });
+        const SymTensor3& K = curvature_cached()[v];
+        const double k0 = std::abs(quad(K, sd.directions[idx[0]])), k1 = std::abs(quad(K, sd.directions[idx[1]]));
+        const bool want_max = b.direction == Brush::Direction::MaxCurvature;
+        dir = sd.directions[(k0 >= k1) == want_max ? idx[0] : idx[1]];
+      }
+      Vec3 t = dir - dot(dir, nrm) * nrm;
+      if (b.stretch > 1 && norm2(t) > 1e-24) {
+        t = normalized(t);
+        target = oriented_metric(nrm, t, b.size * b.stretch, b.size, b.size * b.stretch);
+      } else {
+        target = isotropic_metric(b.size);
+      }
+      target = clamp_metric(target, bounds);
+    }
+    updates.emplace_back(v, blend(metric_[v], target, w));
+  }
+  MetricEdit& e = *stroke_;
+  for (auto& [v, M] : updates) {
+    if (stroke_index_[v] < 0) {
+      stroke_index_[v] = static_cast<int>(e.vertices.size());
+      e.vertices.push_back(v);
+      e.before.push_back(metric_[v]);
+      e.after.push_back(M);
+    } else {
+      e.after[stroke_index_[v]] = M;
+    }
+    metric_[v] = M;
+  }
+  if (!updates.empty()) {
+    if (adaptation_) {
+      adaptation_->request_stop();
+      adaptation_.reset();
+      scrub_ = -1;
+    }
+    predicted_vertices_ = predicted_vertex_count(metric_complexity(mesh, metric_));
+    t0_snapshot_ = initial_snapshot();
+    changed();
+  }
+  static const char* mode_words[] = {"set", "smooth", "erase"};
+  static const char* dir_words[] = {"stroke", "max-curvature", "min-curvature"};
+  const std::string brush_line = std::string("brush ") + mode_words[static_cast<int>(b.mode)] + " " + num(b.strength);
+  const std::string dir_line = std::string("brush direction ") + dir_words[static_cast<int>(b.direction)];
+  if (brush_line != logged_brush_) log(logged_brush_ = brush_line);
+  if (dir_line != logged_direction_ && !(logged_direction_.empty() && b.direction == Brush::Direction::Stroke))
+    log(logged_direction_ = dir_line);
+  char line[256];
+  std::snprintf(line, sizeof line, "paint %s %s %s %s %s", num(centre.x).c_str(), num(centre.y).c_str(),
+                num(centre.z).c_str(), num(b.radius).c_str(), num(b.size).c_str());
+  std::string l = line;
+  if (b.stretch > 1 && norm2(direction) > 0)
+    l += " " + num(b.stretch) + " " + num(direction.x) + " " + num(direction.y) + " " + num(direction.z);
+  log(l);
+  if (own) end_stroke();
+}
+
+void EditorSession::end_stroke() {
+  if (!stroke_) return;
+  if (!stroke_->vertices.empty()) {
+    undo_.push_back(std::move(*stroke_));
+    redo_.clear();
+  }
+  stroke_.reset();
+}
+
+bool EditorSession::undo() {
+  if (stroke_) end_stroke();
+  if (undo_.empty()) return false;
+  MetricEdit e = std::move(undo_.back());
+  undo_.pop_back();
+  MetricField m = metric_;
+  for (std::size_t i = 0; i < e.vertices.size(); ++i) m[e.vertices[i]] = e.before[i];
+  if (e.settings_before != e.settings_after) base_metric_ = compute_metric(e.settings_before);
+  const MetricSettings s = e.settings_before;
+  redo_.push_back(std::move(e));
+  apply_metric(std::move(m), s, true);
+  log("undo");
+  return true;
+}
+
+bool EditorSession::redo() {
+  if (stroke_) end_stroke();
+  if (redo_.empty()) return false;
+  MetricEdit e = std::move(redo_.back());
+  redo_.pop_back();
+  MetricField m = metric_;
+  for (std::size_t i = 0; i < e.vertices.size(); ++i) m[e.vertices[i]] = e.after[i];
+  if (e.settings_before != e.settings_after) base_metric_ = compute_metric(e.settings_after);
+  const MetricSettings s = e.settings_after;
+  undo_.push_back(std::move(e));
+  apply_metric(std::move(m), s, true);
+  log("redo");
+  return true;
+}
+
+// --- adaptation ---------------------------------------------------------------
+
+void EditorSession::step() { run(1); }
+
+void EditorSession::run(int max_passes) {
+  if (!input_) throw Error("no mesh: open one first");
+  if (stroke_) end_stroke();
+  if (running()) return;
+  if (!adaptation_) adaptation_ = std::make_unique<Adaptation>(*input_, metric_, adapt_settings_, t0_snapshot_);
+  const std::size_t n = adaptation_->size();
+  const std::size_t from = scrub_ >= 0 && static_cast<std::size_t>(scrub_) < n ? static_cast<std::size_t>(scrub_) : n - 1;
+  run_start_ = from + 1;
+  scrub_ = -1;
+  adaptation_->start(from, max_passes);
+  log(max_passes == 1 ? "step" : max_passes > 0 ? "run " + std::to_string(max_passes) : "run");
+  changed();
+}
+
+void EditorSession::pause() {
+  if (adaptation_) adaptation_->request_stop();
+}
+
+void EditorSession::cancel() {
+  if (!adaptation_) return;
+  adaptation_->request_stop();
+  adaptation_->wait();
+  adaptation_->truncate(run_start_);
+  ++version_;
+}
+
+void EditorSession::reset() {
+  if (adaptation_) adaptation_->request_stop();
+  adaptation_.reset();
+  scrub_ = -1;
+  selection_ = {};
+  log("reset");
+  changed();
+}
+
+void EditorSession::wait() {
+  if (adaptation_) adaptation_->wait();
+}
+
+bool EditorSession::running() const { return adaptation_ && adaptation_->running(); }
+
+std::vector<std::shared_ptr<const Snapshot>> EditorSession::timeline() const {
+  if (!adaptation_) return {t0_snapshot_};
+  return adaptation_->timeline();
+}
+
+void EditorSession::scrub(int index) {
+  const int n = static_cast<int>(adaptation_ ? adaptation_->size() : 1);
+  if (index >= n) throw Error("timeline: pass " + std::to_string(index) + " does not exist (0 to " + std::to_string(n - 1) + ")");
+  scrub_ = index < 0 || index == n - 1 ? -1 : index;
+  ++version_;
+}
+
+std::string EditorSession::adaptation_error() const { return adaptation_ ? adaptation_->error() : std::string(); }
+
+// --- display, analysis, selection ------------------------------------------
+
+DisplayState EditorSession::display() const {
+  DisplayState d;
+  if (!input_) return d;
+  if (!adaptation_) {
+    d.snapshot = t0_snapshot_;
+    d.version = version_ * 1000003ull;
+    return d;
+  }
+  const auto tl = adaptation_->timeline();
+  const std::size_t i = scrub_ >= 0 && static_cast<std::size_t>(scrub_) < tl.size() ? static_cast<std::size_t>(scrub_) : tl.size() - 1;
+  d.snapshot = tl[i];
+  d.version = version_ * 1000003ull + adaptation_->version() * 7919ull + i;
+  return d;
+}
+
+const Analysis& EditorSession::analysis() {
+  const DisplayState d = display();
+  if (d.snapshot && d.snapshot != analysis_of_) {
+    analysis_ = analyze(d.snapshot->mesh, d.snapshot->metric);
+    analysis_of_ = d.snapshot;
+  }
+  return analysis_;
+}
+
+void EditorSession::select_bin(BinKind kind, int bin) {
+  const DisplayState d = display();
+  if (!d.snapshot) throw Error("no mesh: open one first");
+  selection_ = editor::select_bin(d.snapshot->mesh, analysis(), kind, bin);
+  selection_.of = d.snapshot;
+  selection_.version = ++selection_counter_;
+  log(std::string("select-bin ") + bin_kind_name(kind) + " " + std::to_string(bin));
+  ++version_;
+}
+
+void EditorSession::clear_selection() {
+  selection_ = {};
+  selection_.version = ++selection_counter_;
+  ++version_;
+}
+
+void EditorSession::save(const std::string& mesh_path, const std::string& sol_path) {
+  const DisplayState d = display();
+  if (!d.snapshot) throw Error("no mesh: open one first");
+  // The metric as a field follows the vertices through compact().
+  SurfaceMesh m = d.snapshot->mesh;
+  if (!sol_path.empty()) set_metric_field(m, d.snapshot->metric, "metric");
+  m.compact();
+  std::error_code ec;
+  for (const std::string& p : {mesh_path, sol_path}) {
+    const auto parent = std::filesystem::path(p).parent_path();
+    if (!p.empty() && !parent.empty()) std::filesystem::create_directories(parent, ec);
+  }
+  save_mesh(mesh_path, m);
+  if (!sol_path.empty()) write_sol(sol_path, extract_fields(m), m.n_vertices(), 3);
+  log("save " + mesh_path + (sol_path.empty() ? "" : " " + sol_path));
+  dirty_ = false;
+}
+
+}  // namespace anisurf::editor

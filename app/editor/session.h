@@ -1,0 +1,185 @@
+// The editor's data (no OpenGL, no ImGui): the input mesh T_0 with its
+// features, the metric settings and the metric field they give, painted
+// edits with undo / redo, the adaptation (adaptation.h) with its timeline of
+// snapshots, the analysis of the displayed state and the selection. Panels
+// and scripts change the session only through these calls; each call that
+// changes the session appends the equivalent script line to journal() (the
+// autosave replays it).
+#pragma once
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "editor/adaptation.h"
+#include "editor/analysis.h"
+#include "mesh/surface_mesh.h"
+#include "metric/metric_field.h"
+
+namespace anisurf::editor {
+
+struct MetricSettings {
+  enum class Source { Iso, Size, Hessian, Curvature, Sol };
+  Source source = Source::Iso;
+  double iso = 0.1;                      // metric iso H
+  std::string size_expr = "0.05 + 0.1 * abs(y)";  // metric size EXPR
+  std::string hessian_expr = "x * x";    // metric hessian EXPR ERR
+  double hessian_error = 0.01;
+  double hausd = 0.01;                   // metric curvature HAUSD
+  std::string sol_path;                  // metric sol FILE
+  double hgrad = 1.3;                    // gradation ratio (<= 1: off)
+  double hmin = 0.0;
+  double hmax = std::numeric_limits<double>::infinity();
+  double max_aniso = std::numeric_limits<double>::infinity();
+  bool operator==(const MetricSettings&) const = default;
+};
+const char* source_name(MetricSettings::Source s);
+// The script line that selects the source of `s` ("metric iso 0.1").
+std::string source_line(const MetricSettings& s);
+
+// The metric brush (section "metric painting" of the editor).
+struct Brush {
+  enum class Mode { Set, Smooth, Erase };
+  enum class Direction { Stroke, MaxCurvature, MinCurvature };
+  Mode mode = Mode::Set;
+  Direction direction = Direction::Stroke;
+  double radius = 0.2;    // world units
+  double size = 0.05;     // target size across the stretch direction
+  double stretch = 1.0;   // >= 1: size along the direction = size * stretch
+  double strength = 1.0;  // blend weight at the centre, in (0, 1]
+};
+
+// One undoable change of the metric: the vertices and their values before
+// and after (restored exactly), and the settings before and after.
+struct MetricEdit {
+  std::string what;
+  std::vector<int> vertices;
+  std::vector<SymTensor3> before, after;
+  MetricSettings settings_before, settings_after;
+};
+
+// What the view shows: the mesh, its metric and the pass that produced it.
+struct DisplayState {
+  std::shared_ptr<const Snapshot> snapshot;  // T_0 with the current metric, or a pass
+  std::uint64_t version = 0;                 // changes whenever the state shown changes
+};
+
+class EditorSession {
+ public:
+  EditorSession();
+  ~EditorSession();
+
+  // --- file -----------------------------------------------------------------
+  // Loads T_0 (features detected as `anisurf adapt` does); the metric comes
+  // from SOL when given (source Sol), else the current settings. Clears the
+  // undo stack and the adaptation. Throws Error with the file's message.
+  void open(const std::string& mesh_path, const std::string& sol_path = {});
+  bool has_mesh() const { return input_ != nullptr; }
+  const std::string& mesh_path() const { return mesh_path_; }
+  const SurfaceMesh& input() const { return *input_; }
+  // Writes the displayed mesh and (if sol_path is not empty) its metric.
+  void save(const std::string& mesh_path, const std::string& sol_path = {});
+  // True when the metric or the mesh changed since open / save.
+  bool dirty() const { return dirty_; }
+
+  // --- metric ---------------------------------------------------------------
+  const MetricSettings& settings() const { return settings_; }
+  // Recomputes the metric from `s` (undoable); resets the adaptation. Throws
+  // Error (bad expression, unreadable .sol ...) leaving the session unchanged.
+  void set_settings(const MetricSettings& s);
+  const MetricField& metric() const { return metric_; }
+  // The metric before painting (the settings' field), for the erase mode.
+  const MetricField& base_metric() const { return base_metric_; }
+  // Vertices the metric predicts (report section 2.2), of the current field.
+  double predicted_vertices() const { return predicted_vertices_; }
+  // The same for settings `s` without applying them (throws like set_settings).
+  double predict_vertices(const MetricSettings& s) const;
+
+  // --- painting -------------------------------------------------------------
+  Brush& brush() { return brush_; }
+  // A stroke is one undoable edit: begin, dabs, end. A dab outside a stroke
+  // is a stroke of its own. `direction`: the stroke direction (world), used
+  // when brush().direction == Stroke and stretch > 1.
+  void begin_stroke();
+  void dab(const Vec3& centre, const Vec3& direction = {});
+  void end_stroke();
+  bool in_stroke() const { return stroke_.has_value(); }
+
+  bool can_undo() const { return !undo_.empty() && !stroke_; }
+  bool can_redo() const { return !redo_.empty() && !stroke_; }
+  std::string undo_label() const { return undo_.empty() ? "" : undo_.back().what; }
+  std::string redo_label() const { return redo_.empty() ? "" : redo_.back().what; }
+  bool undo();
+  bool redo();
+
+  // --- adaptation -----------------------------------------------------------
+  AdaptSettings& adapt_settings() { return adapt_settings_; }
+  // One pass / passes until converged (at most max_passes, 0: no limit), in
+  // the worker thread from the displayed snapshot (a scrubbed timeline is cut
+  // after it). wait(): block until the worker is idle.
+  void step();
+  void run(int max_passes = 0);
+  void pause();   // stop after the current pass
+  void cancel();  // stop and go back to where the current run started
+  void reset();   // back to T_0 (the timeline is dropped)
+  void wait();
+  bool running() const;
+  std::vector<std::shared_ptr<const Snapshot>> timeline() const;
+  // Shows pass `index` of the timeline (-1: follow the latest).
+  void scrub(int index);
+  int scrubbed() const { return scrub_; }
+  std::string adaptation_error() const;
+
+  // --- display, analysis, selection -----------------------------------------
+  DisplayState display() const;
+  // Analysis of the displayed state (cached per display version).
+  const Analysis& analysis();
+  // Selects the elements of a histogram bin (kind "length" or "quality");
+  // throws Error for a bin out of range. Empty selection: clear.
+  void select_bin(BinKind kind, int bin);
+  void clear_selection();
+  const Selection& selection() const { return selection_; }
+
+  // --- journal --------------------------------------------------------------
+  // Script lines equivalent to what was done (for the autosave).
+  const std::vector<std::string>& journal() const { return journal_; }
+  void log(const std::string& line);
+  std::uint64_t version() const { return version_; }
+
+ private:
+  void apply_metric(MetricField m, const MetricSettings& s, bool reset_adaptation);
+  void changed();
+  MetricField compute_metric(const MetricSettings& s) const;
+  const std::vector<Vec3>& vertex_normals_cached();
+  const std::vector<SymTensor3>& curvature_cached();
+  std::shared_ptr<const Snapshot> initial_snapshot() const;
+
+  std::unique_ptr<SurfaceMesh> input_;
+  std::vector<int> vertex_origin_;
+  std::string mesh_path_;
+  MetricSettings settings_;
+  MetricField metric_, base_metric_;
+  double predicted_vertices_ = 0;
+  Brush brush_;
+  std::optional<MetricEdit> stroke_;
+  std::vector<int> stroke_index_;  // vertex -> index in stroke_ (-1)
+  std::vector<MetricEdit> undo_, redo_;
+  AdaptSettings adapt_settings_;
+  std::unique_ptr<Adaptation> adaptation_;
+  std::shared_ptr<const Snapshot> t0_snapshot_;
+  int scrub_ = -1;
+  std::size_t run_start_ = 0;  // timeline size when the current run started
+  Analysis analysis_;
+  std::shared_ptr<const Snapshot> analysis_of_;
+  std::uint64_t selection_counter_ = 0;
+  Selection selection_;
+  std::vector<Vec3> normals_;
+  std::vector<SymTensor3> curvature_;
+  std::vector<std::string> journal_;
+  std::string logged_brush_, logged_direction_;  // brush lines in the journal so far
+  bool dirty_ = false;
+  std::uint64_t version_ = 1;
+};
+
+}  // namespace anisurf::editor

@@ -1,0 +1,31 @@
+// What the editor shows, as data (the panels and the script change it, the
+// view (editor_view.h) draws it): colour mode, glyphs, wireframe, the G1
+// surface, pending camera requests, and the hover / brush state.
+#pragma once
+#include <optional>
+#include <string>
+
+#include "render/camera.h"
+
+namespace anisurf::editor {
+
+// Colour modes of `color MODE` and the panel.
+inline constexpr const char* kColorModes[] = {"size", "aniso", "length", "quality", "ref", "deviation", "none"};
+bool is_color_mode(const std::string& mode);
+
+struct ViewState {
+  std::string color = "size";
+  bool glyphs = false;
+  bool wireframe = true;
+  bool features = true;
+  bool show_touched = true;      // markers on the vertices the displayed pass touched
+  int bezier = 0;                // > 0: the G1 surface sampled k x k is shown
+  bool control_net = false;
+  std::optional<render::NamedView> view_request;  // applied (with a fit) on the next frame
+  bool fit_request = true;
+  bool frame_selection = false;  // frame the worst element of the selection
+  // The brush is active in the window (left drag paints instead of orbiting).
+  bool paint_tool = false;
+};
+
+}  // namespace anisurf::editor
