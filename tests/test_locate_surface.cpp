@@ -109,7 +109,6 @@ TEST_CASE("surface meshes with good vertex clearance certify most hinted project
     const SurfaceMesh m = load_mesh(path);
     Locator loc(m);
     const test::PointSampler sample(m);
-    const std::vector<int>& tris = sample.triangles();
     std::mt19937_64 rng(12);
     int certified = 0;
     const int n = 5000;

@@ -20,7 +20,7 @@ enum class TriangleRegion : unsigned char { Vertex0, Vertex1, Vertex2, Edge01, E
 
 struct TriangleClosest {
   Vec3 point;                  // closest point, in the closed triangle
-  std::array<double, 3> bary;  // barycentric coordinates of `point` (>= 0, sum 1)
+  std::array<double, 3> bary{};  // barycentric coordinates of `point` (>= 0, sum 1)
   double distance2 = 0;        // squared distance from the query
   TriangleRegion region = TriangleRegion::Face;
 };
