@@ -198,8 +198,10 @@ int run_adapt(const std::vector<std::string>& args) {
                    r.moves, r.vertices, r.triangles, 100 * r.in_band_share, r.q_min, r.q_mean, r.seconds);
   };
   const remesh::PassReport initial = remesher.measure();
+  const int inverted_before = adapted.count_inverted();
   const std::vector<remesh::PassReport> passes = remesher.run(progress);
   const remesh::PassReport final_state = remesher.measure();
+  const int inverted = adapted.count_inverted();
 
   // Outputs: the mesh, its metric (and the solution values) in compact numbering.
   SurfaceMesh& t1 = adapted.mesh();
@@ -243,6 +245,7 @@ int run_adapt(const std::vector<std::string>& args) {
     j["setup_seconds"] = t_setup;
     j["initial"] = pass_json(initial);
     j["final"] = pass_json(final_state);
+    j["inverted"] = inverted;
     nlohmann::json arr = nlohmann::json::array();
     for (const auto& r : passes) arr.push_back(pass_json(r));
     j["passes"] = arr;
@@ -259,6 +262,7 @@ int run_adapt(const std::vector<std::string>& args) {
   std::printf("             %9.3f   %9.3f   (max)\n", initial.length_max, final_state.length_max);
   std::printf("c_K min      %9.3f   %9.3f   (eq. 17)\n", initial.q_min, final_state.q_min);
   std::printf("c_K mean     %9.3f   %9.3f\n", initial.q_mean, final_state.q_mean);
+  std::printf("inverted     %9d   %9d   (triangles facing against the surface normal)\n", inverted_before, inverted);
   std::printf("operations   %d splits, %d collapses, %d swaps, %d moves, %d removed (valence < 4)\n", splits,
               collapses, swaps, moves, removed);
   std::printf("written      %s, %s (%.2f s)\n", out.c_str(), out_sol.c_str(), seconds);

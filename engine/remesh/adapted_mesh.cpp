@@ -12,8 +12,9 @@ namespace anisurf::remesh {
 AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, ControlSpace& control, LengthFormula length)
     : mesh_(std::move(initial)), geometry_(geometry), control_(control), length_(length) {
   auto& props = mesh_.vertex_properties();
-  for (const char* n : {"remesh:metric", "remesh:hint_g", "remesh:hint_0"}) props.remove(n);
+  for (const char* n : {"remesh:metric", "remesh:normal", "remesh:hint_g", "remesh:hint_0"}) props.remove(n);
   metric_ = mesh_.add_vertex_property<SymTensor3>("remesh:metric", SymTensor3::identity());
+  normal_ = mesh_.add_vertex_property<Vec3>("remesh:normal");
   hint_g_ = mesh_.add_vertex_property<Hint>("remesh:hint_g");
   hint_0_ = mesh_.add_vertex_property<Hint>("remesh:hint_0");
   for (const FieldInfo& f : control_.field_infos()) {
@@ -87,7 +88,7 @@ Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, const std::vector<V
   const Projection pr = geometry_.project(x, std::span<const Hint>(hg.data(), n), c);
   Placement p;
   p.position = kind == VertexKind::Fixed ? x : pr.point;
-  p.normal = pr.normal;
+  p.normal = kind == VertexKind::Free ? pr.normal : Vec3();
   p.distance = norm(pr.point - x);
   p.hint_g = pr.location.hint();
   const Location in0 = control_.locate(p.position, n ? h0[0] : Hint{}, pr.location);
@@ -99,6 +100,7 @@ Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, const std::vector<V
 Placement AdaptedMesh::current(Vertex v) const {
   Placement p;
   p.position = mesh_.position(v);
+  p.normal = normal_[v];
   p.hint_g = hint_g_[v];
   p.hint_0 = hint_0_[v];
   p.values.metric = metric_[v];
@@ -108,6 +110,7 @@ Placement AdaptedMesh::current(Vertex v) const {
 
 void AdaptedMesh::commit(Vertex v, const Placement& p) {
   mesh_.position(v) = p.position;
+  normal_[v] = p.normal;
   hint_g_[v] = p.hint_g;
   hint_0_[v] = p.hint_0;
   metric_[v] = p.values.metric;
@@ -128,12 +131,20 @@ int AdaptedMesh::count_inverted() {
   for (int i = 0; i < mesh_.triangle_capacity(); ++i) {
     const Triangle t(i);
     if (mesh_.is_deleted(t)) continue;
-    const Vertex a = mesh_.vertex(t, 0), b = mesh_.vertex(t, 1), c = mesh_.vertex(t, 2);
-    const Vec3 g = (mesh_.position(a) + mesh_.position(b) + mesh_.position(c)) / 3.0;
-    const std::array<Hint, 3> h = {hint_g_[a], hint_g_[b], hint_g_[c]};
-    const Projection pr = geometry_.project(g, h, Constraint::Free);
     const Vec3 nt = mesh_.triangle_normal(t);
-    if (!(dot(nt, pr.normal) > 0)) ++n;
+    std::array<Vec3, 3> p;
+    for (int k = 0; k < 3; ++k) p[k] = mesh_.position(mesh_.vertex(t, k));
+    const Vec3 g = (p[0] + p[1] + p[2]) / 3.0;
+    // Near each corner (inside the triangle, so on its side of a ridge), from
+    // the vertex's own hint (so on its sheet of a thin part): a vote of the
+    // surface normal there.
+    int against = 0;
+    for (int k = 0; k < 3; ++k) {
+      const Hint h = hint_g_[mesh_.vertex(t, k)];
+      const Projection pr = geometry_.project(0.9 * p[k] + 0.1 * g, std::span<const Hint>(&h, 1), Constraint::Free);
+      if (!(dot(nt, pr.normal) > 0)) ++against;
+    }
+    if (against >= 2) ++n;
   }
   return n;
 }

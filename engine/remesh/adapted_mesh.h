@@ -19,7 +19,7 @@ namespace anisurf::remesh {
 // Everything a vertex of T_1 takes from T_G and T_0 at one position.
 struct Placement {
   Vec3 position;
-  Vec3 normal;  // unit normal of the surface at the position (zero if unknown)
+  Vec3 normal;  // unit surface normal at the position; zero for curve and fixed vertices (ambiguous)
   Hint hint_g, hint_0;
   ControlValues values;
   double distance = 0;  // from the requested point to the surface
@@ -58,6 +58,8 @@ class AdaptedMesh {
   void commit(Vertex v, const Placement& p);
 
   const SymTensor3& metric(Vertex v) const { return metric_[v]; }
+  // Unit surface normal at v's location (zero on feature curves and corners).
+  const Vec3& surface_normal(Vertex v) const { return normal_[v]; }
   const Property<SymTensor3>& metric_property() const { return metric_; }
   VertexKind kind(Vertex v) const;
   Constraint constraint(VertexKind k) const;
@@ -75,8 +77,9 @@ class AdaptedMesh {
   double quality(Triangle t) const;
   LengthFormula length_formula() const { return length_; }
 
-  // Triangles of T_1 whose normal points against the surface normal at their
-  // centroid's location on T_G (O(n); for tests and reports).
+  // Triangles of T_1 whose normal points against the surface normal near at
+  // least two of their corners (points 1/10 of the way to the centroid,
+  // located on T_G from the vertex hints). O(n); for tests and reports.
   int count_inverted();
   // Writes the vertex metrics into the mesh field "metric" and the solution
   // values into fields named as in T_0 (for saving).
@@ -88,6 +91,7 @@ class AdaptedMesh {
   ControlSpace& control_;
   LengthFormula length_;
   Property<SymTensor3> metric_;
+  Property<Vec3> normal_;
   Property<Hint> hint_g_, hint_0_;
   std::vector<Property<FieldValue>> solution_;
 };

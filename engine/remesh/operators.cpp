@@ -17,11 +17,18 @@ double cos_deg(double deg) { return std::cos(deg * std::numbers::pi / 180.0); }
 
 Vec3 raw_normal(const Vec3& a, const Vec3& b, const Vec3& c) { return cross(b - a, c - a); }
 
+// The angle thresholds of the options as cosines (computed once per check).
+struct Limits {
+  double cos_turn, cos_surface;
+  explicit Limits(const OperatorOptions& o)
+      : cos_turn(cos_deg(o.max_normal_turn_deg)), cos_surface(cos_deg(o.max_surface_angle_deg)) {}
+};
+
 // A new triangle (a, b, c) replacing one of unit normal `old_n`: refused when
-// degenerate, inverted or turned too far; `surface_n` (unit, or zero) is the
-// surface normal at a vertex just placed on the surface.
-Rejection check_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& old_n, const Vec3& surface_n,
-                         const OperatorOptions& o) {
+// degenerate, inverted or turned too far from old_n or from the surface
+// normals `sn` at its corners (unit, or zero where unknown: curves, corners).
+Rejection check_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& old_n,
+                         const std::array<Vec3, 3>& sn, const Limits& o) {
   const Vec3 n = raw_normal(a, b, c);
   const double len2 = std::max({norm2(b - a), norm2(c - b), norm2(a - c)});
   const double area2 = norm(n);
@@ -29,11 +36,12 @@ Rejection check_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
   const Vec3 u = n / area2;
   const double d = dot(u, old_n);
   if (d <= 0) return Rejection::Inversion;
-  if (d < cos_deg(o.max_normal_turn_deg)) return Rejection::Normal;
-  if (norm2(surface_n) > 0) {
-    const double s = dot(u, surface_n);
-    if (s <= 0) return Rejection::Inversion;
-    if (s < cos_deg(o.max_surface_angle_deg)) return Rejection::Normal;
+  if (d < o.cos_turn) return Rejection::Normal;
+  for (const Vec3& s : sn) {
+    if (!(norm2(s) > 0)) continue;
+    const double ds = dot(u, s);
+    if (ds <= 0) return Rejection::Inversion;
+    if (ds < o.cos_surface) return Rejection::Normal;
   }
   return Rejection::None;
 }
@@ -45,6 +53,7 @@ Vec3 unit_normal(const SurfaceMesh& mesh, Triangle t) { return normalized(mesh.t
 struct TriangleView {
   std::array<Vec3, 3> x;
   std::array<SymTensor3, 3> M;
+  std::array<Vec3, 3> n;  // surface normals at the corners
 };
 TriangleView view(const AdaptedMesh& m, Triangle t, Vertex moved, Vertex also, const Placement& p) {
   TriangleView v;
@@ -53,9 +62,11 @@ TriangleView view(const AdaptedMesh& m, Triangle t, Vertex moved, Vertex also, c
     if (w == moved || w == also) {
       v.x[k] = p.position;
       v.M[k] = p.values.metric;
+      v.n[k] = p.normal;
     } else {
       v.x[k] = m.mesh().position(w);
       v.M[k] = m.metric(w);
+      v.n[k] = m.surface_normal(w);
     }
   }
   return v;
@@ -113,16 +124,18 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
   plan.kind = is_feature_edge(mesh, c) ? VertexKind::Curve : VertexKind::Free;
   const Vec3 mid = 0.5 * (mesh.position(b) + mesh.position(d));
 
+  const Limits lim(o);
   // The one or two triangles of the edge, halved at x.
   auto check = [&](const Vec3& x, const Vec3& surface_n) {
     for (Corner k : {c, mesh.opposite(c)}) {
       if (!k.is_valid()) continue;
       const Triangle t = M::triangle(k);
       const Vec3 old_n = unit_normal(mesh, t);
-      const Vec3 pa = mesh.position(mesh.vertex(k)), pb = mesh.position(mesh.edge_from(k)),
-                 pd = mesh.position(mesh.edge_to(k));
-      Rejection r = check_triangle(pa, pb, x, old_n, surface_n, o);
-      if (r == Rejection::None) r = check_triangle(pa, x, pd, old_n, surface_n, o);
+      const Vertex va = mesh.vertex(k), vb = mesh.edge_from(k), vd = mesh.edge_to(k);
+      const Vec3 pa = mesh.position(va), pb = mesh.position(vb), pd = mesh.position(vd);
+      const Vec3 &na = m.surface_normal(va), &nb = m.surface_normal(vb), &nd = m.surface_normal(vd);
+      Rejection r = check_triangle(pa, pb, x, old_n, {na, nb, surface_n}, lim);
+      if (r == Rejection::None) r = check_triangle(pa, x, pd, old_n, {na, surface_n, nd}, lim);
       if (r != Rejection::None) return r;
     }
     return Rejection::None;
@@ -197,7 +210,7 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
     }
   }
   // New triangles: the fans of r and k without the triangles of the edge.
-  const Vec3 sn = kind_k == VertexKind::Free && moves ? p.normal : Vec3();
+  const Limits lim(o);
   double q_old = 1, q_new = 1;
   bool any = false;
   for (Vertex w : {r, k}) {
@@ -209,7 +222,7 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
       if (has_r && has_k) continue;  // removed
       if (w == k && !moves) continue;  // unchanged
       const TriangleView tv = view(m, t, r, k, p);
-      const Rejection why = check_triangle(tv.x[0], tv.x[1], tv.x[2], unit_normal(mesh, t), sn, o);
+      const Rejection why = check_triangle(tv.x[0], tv.x[1], tv.x[2], unit_normal(mesh, t), tv.n, lim);
       if (why != Rejection::None) return why;
       q_new = std::min(q_new, m.quality(tv.x, tv.M));
       any = true;
@@ -355,8 +368,11 @@ SwapPlan can_swap(const AdaptedMesh& m, Corner c, const OperatorOptions& o) {
   const Vec3 &pa = mesh.position(a), &pb = mesh.position(b), &pd = mesh.position(d), &pe = mesh.position(e);
   const Vec3 n1 = normalized(raw_normal(pa, pb, pd)), n2 = normalized(raw_normal(pe, pd, pb));
   const Vec3 navg = normalized(n1 + n2);
-  for (const auto& t : {std::array<Vec3, 3>{pa, pb, pe}, std::array<Vec3, 3>{pe, pd, pa}}) {
-    const Rejection r = check_triangle(t[0], t[1], t[2], navg, Vec3(), o);
+  const Limits lim(o);
+  const Vec3 &na = m.surface_normal(a), &nb = m.surface_normal(b), &nd = m.surface_normal(d), &ne = m.surface_normal(e);
+  for (const auto& [t, sn] : {std::pair{std::array<Vec3, 3>{pa, pb, pe}, std::array<Vec3, 3>{na, nb, ne}},
+                              std::pair{std::array<Vec3, 3>{pe, pd, pa}, std::array<Vec3, 3>{ne, nd, na}}}) {
+    const Rejection r = check_triangle(t[0], t[1], t[2], navg, sn, lim);
     if (r != Rejection::None) {
       plan.why = r;
       return plan;
@@ -424,16 +440,16 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
     old_n.push_back(unit_normal(mesh, M::triangle(x)));
     plan.quality_before = std::min(plan.quality_before, m.quality(M::triangle(x)));
   }
+  const Limits lim(o);
   Rejection last = Rejection::NoGain;
   for (int k = 0; k < o.move_backtracks; ++k, dx *= 0.5) {
     ++plan.tries;
     const Placement at = m.place(s + dx, kind, {v});
-    const Vec3 sn = kind == VertexKind::Free ? at.normal : Vec3();
     double q = 1;
     last = Rejection::None;
     for (std::size_t i = 0; i < fan.size() && last == Rejection::None; ++i) {
       const TriangleView tv = view(m, M::triangle(fan[i]), v, Vertex(), at);
-      last = check_triangle(tv.x[0], tv.x[1], tv.x[2], old_n[i], sn, o);
+      last = check_triangle(tv.x[0], tv.x[1], tv.x[2], old_n[i], tv.n, lim);
       q = std::min(q, m.quality(tv.x, tv.M));
     }
     if (last != Rejection::None) continue;
