@@ -259,3 +259,66 @@ TEST_CASE("remesh: fandisk with h = diagonal/50 keeps its ridges and corners") {
     CHECK_MESSAGE(found, "corner " << i << " lost");
   }
 }
+
+TEST_CASE("remesh: the solution of T_0 is interpolated at every new and moved vertex (exact for a linear field)") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/sphere20k.mesh");
+  SurfaceMesh input = load_mesh(mesh);
+  detect_features(input);
+  // f(x, y, z) = (x + 2y - z, 3z): linear, so its interpolation on the
+  // polyhedral T_G at a vertex's location is its value at that position.
+  Property<FieldValue> f = input.add_field("f", FieldKind::Vector, 2);
+  for (int i = 0; i < input.vertex_capacity(); ++i) {
+    const Vec3& p = input.position(Vertex(i));
+    f[Vertex(i)] = {p.x + 2 * p.y - p.z, 3 * p.z, 0, 0, 0, 0};
+  }
+  const MetricField metric(static_cast<std::size_t>(input.vertex_capacity()), isotropic_metric(0.08));
+  PolyhedralSurface geometry(input);
+  ControlSpace control(input, metric, true);
+  REQUIRE(control.field_infos().size() == 1);
+  AdaptedMesh a(input, geometry, control);
+  Remesher r(a);
+  const auto passes = r.run();
+  const SurfaceMesh& out = a.mesh();
+  CHECK(out.n_vertices() < input.n_vertices() / 2);  // h = 0.08: coarsened
+  const Property<FieldValue> g = out.get_field("f");
+  REQUIRE(g.is_valid());
+  for (int i = 0; i < out.vertex_capacity(); ++i) {
+    const Vertex v(i);
+    if (out.is_deleted(v)) continue;
+    const Vec3& p = out.position(v);
+    CHECK(g[v][0] == doctest::Approx(p.x + 2 * p.y - p.z).epsilon(1e-9));
+    CHECK(g[v][1] == doctest::Approx(3 * p.z).epsilon(1e-9));
+  }
+}
+
+TEST_CASE("remesh: pass reports agree with measure_mesh_quality and name live vertices") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
+  auto s = make_setup(mesh, sol, 0, false);
+  Remesher r(*s->adapted);
+  bool first_split = true;
+  for (PassKind k : {PassKind::Swap, PassKind::Split, PassKind::Collapse, PassKind::Swap, PassKind::Smooth,
+                     PassKind::Split, PassKind::Final}) {
+    const PassReport rep = r.step(k);
+    CAPTURE(pass_name(k));
+    const SurfaceMesh& m = s->adapted->mesh();
+    int sum = 0;
+    for (int c : rep.histogram) sum += c;
+    CHECK(sum == rep.edges);
+    CHECK(rep.vertices == m.n_vertices());
+    CHECK(rep.seconds >= 0);
+    CHECK(rep.q_min <= rep.q_mean);
+    for (int v : rep.touched) CHECK(v < m.vertex_capacity());
+    if (k == PassKind::Split && first_split) CHECK(rep.splits > 0);  // hemi's edges are 3-7 units long
+    if (k == PassKind::Split) first_split = false;
+    // The same figures from the metric module (eq. 6 lengths, eq. 17 quality).
+    MetricField M(static_cast<std::size_t>(m.vertex_capacity()));
+    for (int i = 0; i < m.vertex_capacity(); ++i)
+      if (!m.is_deleted(Vertex(i))) M[i] = s->adapted->metric(Vertex(i));
+    const MeshQuality q = measure_mesh_quality(m, M);
+    CHECK(q.edges == rep.edges);
+    CHECK(q.in_band_share == doctest::Approx(rep.in_band_share));
+    CHECK(q.q_min == doctest::Approx(rep.q_min));
+    CHECK(q.q_mean == doctest::Approx(rep.q_mean));
+  }
+}

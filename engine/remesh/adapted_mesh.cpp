@@ -149,15 +149,4 @@ int AdaptedMesh::count_inverted() {
   return n;
 }
 
-void AdaptedMesh::store_fields() {
-  Property<FieldValue> m = mesh_.get_field("metric");
-  if (!m) m = mesh_.add_field("metric", FieldKind::Tensor, 6);
-  for (int i = 0; i < mesh_.vertex_capacity(); ++i) {
-    const Vertex v(i);
-    if (mesh_.is_deleted(v)) continue;
-    m[v] = metric_[v].m;
-  }
-  (void)solution_;  // the solution properties are the mesh fields themselves
-}
-
 }  // namespace anisurf::remesh

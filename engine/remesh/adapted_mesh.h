@@ -81,9 +81,6 @@ class AdaptedMesh {
   // least two of their corners (points 1/10 of the way to the centroid,
   // located on T_G from the vertex hints). O(n); for tests and reports.
   int count_inverted();
-  // Writes the vertex metrics into the mesh field "metric" and the solution
-  // values into fields named as in T_0 (for saving).
-  void store_fields();
 
  private:
   SurfaceMesh mesh_;
