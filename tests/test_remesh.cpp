@@ -231,6 +231,13 @@ TEST_CASE("remesh: fandisk with h = diagonal/50 keeps its ridges and corners") {
   // input feature edges, its midpoint within the chordal error of h.
   Locator features(s->input);
   int ridge_edges = 0;
+  double ridge_length_out = 0, ridge_length_in = 0;
+  for (int t = 0; t < s->input.triangle_capacity(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const Corner c = SurfaceMesh::corner(Triangle(t), k);
+      if (s->input.canonical(c) == c && s->input.has_tag(c, kRidge))
+        ridge_length_in += norm(s->input.position(s->input.edge_to(c)) - s->input.position(s->input.edge_from(c)));
+    }
   for (int t = 0; t < out.triangle_capacity(); ++t) {
     if (out.is_deleted(Triangle(t))) continue;
     for (int k = 0; k < 3; ++k) {
@@ -238,6 +245,7 @@ TEST_CASE("remesh: fandisk with h = diagonal/50 keeps its ridges and corners") {
       if (out.canonical(c) != c || !out.has_tag(c, kRidge)) continue;
       ++ridge_edges;
       const Vec3 a = out.position(out.edge_from(c)), b = out.position(out.edge_to(c));
+      ridge_length_out += norm(b - a);
       int which = 0;
       for (const Vec3& x : {a, b, 0.5 * (a + b)}) {
         const Location l = features.project(x, {}, Constraint::OnFeature);
@@ -248,6 +256,9 @@ TEST_CASE("remesh: fandisk with h = diagonal/50 keeps its ridges and corners") {
     }
   }
   CHECK(ridge_edges > 0);
+  // The curves survive whole: the chords are at most a little shorter than the input polylines.
+  CHECK(ridge_length_out <= ridge_length_in * (1 + 1e-9));
+  CHECK(ridge_length_out >= 0.98 * ridge_length_in);
   // Corners are fixed: every input corner is still a vertex.
   Locator all(s->input);
   for (int i = 0; i < s->input.vertex_capacity(); ++i) {
