@@ -189,13 +189,38 @@ int run_adapt(const std::vector<std::string>& args) {
                  geometry->name().c_str(), t_setup);
 
   remesh::Remesher remesher(adapted, ro);
+  // Progress: every pass (-v 2) or one line per round with its sums (-v 1).
+  remesh::PassReport round;
+  const auto print = [](const remesh::PassReport& r, const char* what) {
+    std::fprintf(stderr,
+                 "  %2d %-8s split %6d collapse %6d swap %6d move %7d | V %7d T %7d  in band %5.1f%%  q %.3f/%.3f  "
+                 "%.2f s\n",
+                 r.iteration, what, r.splits, r.collapses, r.swaps, r.moves, r.vertices, r.triangles,
+                 100 * r.in_band_share, r.q_min, r.q_mean, r.seconds);
+  };
   const auto progress = [&](const remesh::PassReport& r) {
-    if (verbose >= 2 || (verbose >= 1 && (r.kind == remesh::PassKind::Swap || r.kind == remesh::PassKind::Final)))
-      std::fprintf(stderr,
-                   "  %2d %-8s split %6d collapse %6d swap %6d move %6d | V %7d T %7d  in band %5.1f%%  q %.3f/%.3f  "
-                   "%.2f s\n",
-                   r.iteration, std::string(remesh::pass_name(r.kind)).c_str(), r.splits, r.collapses, r.swaps,
-                   r.moves, r.vertices, r.triangles, 100 * r.in_band_share, r.q_min, r.q_mean, r.seconds);
+    if (verbose >= 2) print(r, std::string(remesh::pass_name(r.kind)).c_str());
+    if (verbose != 1) return;
+    if (r.kind == remesh::PassKind::Final) {
+      if (round.iteration > 0) print(round, "round");
+      print(r, "final");
+      return;
+    }
+    if (r.iteration != round.iteration) {
+      if (round.iteration > 0) print(round, "round");
+      round = remesh::PassReport{};
+      round.iteration = r.iteration;
+    }
+    round.splits += r.splits;
+    round.collapses += r.collapses;
+    round.swaps += r.swaps;
+    round.moves += r.moves + r.removed_vertices;
+    round.seconds += r.seconds;
+    round.vertices = r.vertices;
+    round.triangles = r.triangles;
+    round.in_band_share = r.in_band_share;
+    round.q_min = r.q_min;
+    round.q_mean = r.q_mean;
   };
   const remesh::PassReport initial = remesher.measure();
   const int inverted_before = adapted.count_inverted();
