@@ -333,3 +333,43 @@ TEST_CASE("remesh: pass reports agree with measure_mesh_quality and name live ve
     CHECK(q.q_mean == doctest::Approx(rep.q_mean));
   }
 }
+
+TEST_CASE("remesh: the metric of every T_1 vertex is T_0's metric interpolated at its position (T_0 = T_G or a copy)") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/sphere20k.mesh");
+  SurfaceMesh input = load_mesh(mesh);
+  detect_features(input);
+  MetricField metric(static_cast<std::size_t>(input.vertex_capacity()));
+  for (int i = 0; i < input.vertex_capacity(); ++i) {
+    const Vec3& p = input.position(Vertex(i));
+    metric[i] = metric_from_sizes({0.06 + 0.03 * p.z, 0.05, 0.05 - 0.02 * p.x}, {Vec3(0, 0, 1), Vec3(0, 1, 0), Vec3(1, 0, 0)});
+  }
+  const SurfaceMesh t0_copy = input;
+  for (const bool same : {true, false}) {
+    CAPTURE(same);
+    PolyhedralSurface geometry(input);
+    ControlSpace control(same ? input : t0_copy, metric, same);
+    AdaptedMesh a(input, geometry, control);
+    Remesher r(a);
+    r.step(PassKind::Split);
+    r.step(PassKind::Collapse);
+    r.step(PassKind::Smooth);
+    // An independent location of every vertex in T_0 and the same interpolation.
+    Locator t0(same ? input : t0_copy);
+    const SurfaceMesh& out = a.mesh();
+    int checked = 0;
+    for (int i = 0; i < out.vertex_capacity(); ++i) {
+      const Vertex v(i);
+      if (out.is_deleted(v)) continue;
+      const Location l = t0.project(out.position(v), {}, Constraint::Free);
+      REQUIRE(l.distance < 1e-9);
+      const SymTensor3 expected = interpolate_metric(
+          {metric[input.vertex(l.triangle, 0).idx], metric[input.vertex(l.triangle, 1).idx],
+           metric[input.vertex(l.triangle, 2).idx]},
+          l.bary, MetricInterpolation::Linear);
+      for (int k = 0; k < 6; ++k)
+        CHECK(a.metric(v).m[k] == doctest::Approx(expected.m[k]).epsilon(1e-7).scale(frobenius_norm(expected)));
+      ++checked;
+    }
+    CHECK(checked == out.n_vertices());
+  }
+}

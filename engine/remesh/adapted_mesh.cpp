@@ -12,9 +12,11 @@ namespace anisurf::remesh {
 AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, ControlSpace& control, LengthFormula length)
     : mesh_(std::move(initial)), geometry_(geometry), control_(control), length_(length) {
   auto& props = mesh_.vertex_properties();
-  for (const char* n : {"remesh:metric", "remesh:normal", "remesh:hint_g", "remesh:hint_0"}) props.remove(n);
+  for (const char* n : {"remesh:metric", "remesh:normal", "remesh:on_surface", "remesh:hint_g", "remesh:hint_0"})
+    props.remove(n);
   metric_ = mesh_.add_vertex_property<SymTensor3>("remesh:metric", SymTensor3::identity());
   normal_ = mesh_.add_vertex_property<Vec3>("remesh:normal");
+  on_surface_ = mesh_.add_vertex_property<std::uint8_t>("remesh:on_surface", 1);
   hint_g_ = mesh_.add_vertex_property<Hint>("remesh:hint_g");
   hint_0_ = mesh_.add_vertex_property<Hint>("remesh:hint_0");
   for (const FieldInfo& f : control_.field_infos()) {
@@ -101,6 +103,7 @@ Placement AdaptedMesh::current(Vertex v) const {
   Placement p;
   p.position = mesh_.position(v);
   p.normal = normal_[v];
+  p.on_surface = on_surface_[v] != 0;
   p.hint_g = hint_g_[v];
   p.hint_0 = hint_0_[v];
   p.values.metric = metric_[v];
@@ -111,6 +114,7 @@ Placement AdaptedMesh::current(Vertex v) const {
 void AdaptedMesh::commit(Vertex v, const Placement& p) {
   mesh_.position(v) = p.position;
   normal_[v] = p.normal;
+  on_surface_[v] = p.on_surface ? 1 : 0;
   hint_g_[v] = p.hint_g;
   hint_0_[v] = p.hint_0;
   metric_[v] = p.values.metric;

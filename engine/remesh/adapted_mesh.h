@@ -23,6 +23,7 @@ struct Placement {
   Hint hint_g, hint_0;
   ControlValues values;
   double distance = 0;  // from the requested point to the surface
+  bool on_surface = true;  // false: kept off the surface (section 5.3's unprojected midpoint)
 };
 
 // How a vertex of T_1 may move (report sections 5.1 and 5.5).
@@ -60,6 +61,9 @@ class AdaptedMesh {
   const SymTensor3& metric(Vertex v) const { return metric_[v]; }
   // Unit surface normal at v's location (zero on feature curves and corners).
   const Vec3& surface_normal(Vertex v) const { return normal_[v]; }
+  // False for a vertex left off the surface (a split at the straight
+  // midpoint); the next move of the vertex projects it.
+  bool on_surface(Vertex v) const { return on_surface_[v] != 0; }
   const Property<SymTensor3>& metric_property() const { return metric_; }
   VertexKind kind(Vertex v) const;
   Constraint constraint(VertexKind k) const;
@@ -89,6 +93,7 @@ class AdaptedMesh {
   LengthFormula length_;
   Property<SymTensor3> metric_;
   Property<Vec3> normal_;
+  Property<std::uint8_t> on_surface_;
   Property<Hint> hint_g_, hint_0_;
   std::vector<Property<FieldValue>> solution_;
 };

@@ -162,6 +162,7 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     if (plan.why == Rejection::None) {
       plan.projected = false;
       plan.at.position = mid;
+      plan.at.on_surface = false;
     } else {
       plan.why = first;
     }
@@ -429,8 +430,11 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
   const double dmax = o.max_move * shortest;
   if (norm(dx) > dmax) dx *= dmax / norm(dx);
   if (!(norm(dx) > o.min_move * shortest)) {
-    plan.why = Rejection::NoGain;
-    return plan;
+    if (m.on_surface(v)) {
+      plan.why = Rejection::NoGain;
+      return plan;
+    }
+    dx = Vec3();  // only the projection onto the surface
   }
 
   const std::vector<Corner> fan = mesh.fan(v);
@@ -468,7 +472,8 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
         continue;
       }
     }
-    if (!(q >= o.move_quality_factor * plan.quality_before) || q <= 0) {
+    // A vertex off the surface is projected whatever the quality (validity only).
+    if ((m.on_surface(v) && !(q >= o.move_quality_factor * plan.quality_before)) || q <= 0) {
       last = Rejection::Quality;
       continue;
     }
