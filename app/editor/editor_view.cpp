@@ -1,5 +1,6 @@
 #include "editor/editor_view.h"
 
+#include <array>
 #include <chrono>
 
 #include "geometry/normals.h"
@@ -33,7 +34,21 @@ void EditorView::rebuild_mesh(const ViewState& view, const EditorSession& sessio
   set_metric_field(m, shown_->metric, "metric");
   render::MeshStructureOptions o;
   o.metric_field = "metric";
+  // Metric edits on the same input keep the colour ranges (so painting
+  // changes the colours only where it changes the metric); another mesh, a
+  // pass or a new file take the ranges of their data.
+  std::vector<std::pair<std::string, std::array<float, 2>>> kept;
+  const bool keep = kept_for_ == session.opened() && !shown_->has_report && kept_initial_ &&
+                    kept_settings_ == session.settings();
+  if (keep)
+    for (const auto& q : mesh_.structure.scalars) kept.push_back({q.name, {q.range_min, q.range_max}});
   mesh_ = render::make_mesh_structure(m, kMeshName, o);
+  for (auto& q : mesh_.structure.scalars)
+    for (const auto& [name, r] : kept)
+      if (q.name == name) q.range_min = r[0], q.range_max = r[1];
+  kept_for_ = session.opened();
+  kept_initial_ = !shown_->has_report;
+  kept_settings_ = session.settings();
   mesh_.structure.version = ++counter_;
   // The vertices the displayed pass created, kept or moved.
   if (shown_->has_report && !shown_->report.touched.empty()) {
@@ -47,7 +62,6 @@ void EditorView::rebuild_mesh(const ViewState& view, const EditorSession& sessio
     mesh_.structure.markers.push_back(std::move(mk));
   }
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  (void)session;
 }
 
 void EditorView::rebuild_bezier(const ViewState& view) {

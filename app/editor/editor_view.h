@@ -44,6 +44,9 @@ class EditorView {
   const Snapshot* bezier_of_ = nullptr;
   std::string color_;
   double build_seconds_ = 0;
+  int kept_for_ = -1;           // session.opened() the ranges belong to
+  bool kept_initial_ = false;   // the last structure showed the initial state
+  MetricSettings kept_settings_;  // and was made with these settings
   std::uint64_t counter_ = 1000;  // structure versions (the renderer re-uploads on a change)
 };
 

@@ -326,9 +326,10 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     const float aspect = static_cast<float>(fbw) / static_cast<float>(fbh);
     if (frame == 3 && !a.view.frame_selection) a.view.fit_request = true;  // panel widths known now
     a.ev.update(a.session, a.view, a.scene, aspect, a.ui.left_reserve(fbw), a.ui.right_reserve(fbw));
-    // Hover: the element under the mouse (not while dragging).
+    // Hover: the element under the mouse (not while dragging, nor while a
+    // script plays: its screenshots show no tooltip).
     a.panels.hover.reset();
-    if (!a.rotating && !a.panels.quit_requested && frame_start - a.last_event < std::chrono::seconds(2)) {
+    if (next_line >= script.size() && !a.rotating && !a.panels.quit_requested && frame_start - a.last_event < std::chrono::seconds(2)) {
       int ww = 1, wh = 1;
       glfwGetWindowSize(window, &ww, &wh);
       a.panels.hover = a.ev.hover(a.scene, static_cast<float>(a.mx * fbw / ww), static_cast<float>(a.my * fbh / wh), fbw, fbh);

@@ -117,8 +117,14 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
   if (!sol_path.empty()) {
     s.source = MetricSettings::Source::Sol;
     s.sol_path = sol_path;
+    // As compute_metric() (and `anisurf adapt`): bounds, then the gradation.
     m = std::move(sol_metric);
     clamp_metric_field(*input_, m, {s.hmin, s.hmax, s.max_aniso});
+    if (s.hgrad > 1) {
+      GradationOptions g;
+      g.ratio = s.hgrad;
+      gradate_metric(*input_, m, g);
+    }
   } else {
     if (s.source == MetricSettings::Source::Sol) s.source = MetricSettings::Source::Iso;
     // A default iso size from the mesh: its mean edge length.
@@ -132,6 +138,7 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
   settings_ = s;
   predicted_vertices_ = predicted_vertex_count(metric_complexity(*input_, metric_));
   t0_snapshot_ = initial_snapshot();
+  ++opened_;
   journal_.clear();
   logged_brush_ = "brush set 1";
   logged_direction_.clear();

@@ -77,6 +77,8 @@ class EditorSession {
   void open(const std::string& mesh_path, const std::string& sol_path = {});
   bool has_mesh() const { return input_ != nullptr; }
   const std::string& mesh_path() const { return mesh_path_; }
+  // Counts the meshes opened (a new one invalidates what views kept).
+  int opened() const { return opened_; }
   const SurfaceMesh& input() const { return *input_; }
   // Writes the displayed mesh and (if sol_path is not empty) its metric.
   void save(const std::string& mesh_path, const std::string& sol_path = {});
@@ -179,6 +181,7 @@ class EditorSession {
   std::vector<std::string> journal_;
   std::string logged_brush_, logged_direction_;  // brush lines in the journal so far
   bool dirty_ = false;
+  int opened_ = 0;
   std::uint64_t version_ = 1;
 };
 

@@ -1,0 +1,399 @@
+// The editor: the session in process (undo / redo restore the metric
+// exactly, the brush changes the metric only within its radius, the
+// adaptation's timeline, bin selections, script errors naming the line), and
+// tests/data/scripts/panels.anisurf, which drives every panel's action, run
+// headless (OSMesa) and in the window under xvfb-run when available, with
+// checks on its screenshots.
+#ifdef ANISURF_WITH_GL
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+#include "editor/analysis.h"
+#include "editor/script.h"
+#include "editor/session.h"
+#include "render/bezier_structure.h"
+#include "render/image.h"
+#include "test_util.h"
+
+using namespace anisurf;
+using namespace anisurf::editor;
+
+namespace {
+
+std::filesystem::path assets_dir() { return std::filesystem::path(ANISURF_TEST_DATA_DIR) / ".." / ".." / "assets"; }
+std::string demo_mesh() { return (assets_dir() / "demo.mesh").string(); }
+std::string demo_sol() { return (assets_dir() / "demo.sol").string(); }
+
+bool same(const MetricField& a, const MetricField& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a[i].m != b[i].m) return false;
+  return true;
+}
+
+double tangent_size(const SymTensor3& M) {
+  const auto sd = sizes_and_directions(M);
+  auto s = sd.sizes;
+  std::sort(s.begin(), s.end());
+  return std::sqrt(s[0] * s[1]);
+}
+
+// Pixels (in the view, right of the panel) that differ by more than `tol` in a channel.
+struct Diff {
+  int count = 0;
+  double cx = 0, cy = 0;  // centroid
+};
+Diff diff(const render::Image& a, const render::Image& b, int x0, int tol = 24) {
+  Diff d;
+  REQUIRE(a.width == b.width);
+  REQUIRE(a.height == b.height);
+  for (int y = 0; y < a.height; ++y)
+    for (int x = x0; x < a.width; ++x) {
+      const auto *p = a.pixel(x, y), *q = b.pixel(x, y);
+      if (std::abs(p[0] - q[0]) > tol || std::abs(p[1] - q[1]) > tol || std::abs(p[2] - q[2]) > tol) {
+        ++d.count;
+        d.cx += x;
+        d.cy += y;
+      }
+    }
+  if (d.count) d.cx /= d.count, d.cy /= d.count;
+  return d;
+}
+
+// Pixels of the highlight colour (1, 0.15, 0.55) in the view.
+int highlighted(const render::Image& img, int x0) {
+  int n = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = x0; x < img.width; ++x) {
+      const auto* p = img.pixel(x, y);
+      n += p[0] > 200 && p[1] < 80 && p[2] > 100 && p[2] < 180;
+    }
+  return n;
+}
+
+// Bounding box centre and half width of the non-background pixels of the
+// view (between the panel at x0 and the legend at x1).
+std::array<double, 3> object_box(const render::Image& img, int x0, int x1) {
+  int lo_x = img.width, hi_x = 0, lo_y = img.height, hi_y = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = x0; x < x1; ++x) {
+      const auto* p = img.pixel(x, y);
+      if (p[0] < 245 || p[1] < 245 || p[2] < 245) {
+        lo_x = std::min(lo_x, x), hi_x = std::max(hi_x, x);
+        lo_y = std::min(lo_y, y), hi_y = std::max(hi_y, y);
+      }
+    }
+  return {0.5 * (lo_x + hi_x), 0.5 * (lo_y + hi_y), 0.5 * (hi_x - lo_x)};
+}
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// tests/data/scripts/NAME with @ASSETS@ and @OUT@ replaced, written into dir.
+std::filesystem::path instantiate(const std::string& name, const std::filesystem::path& dir) {
+  std::string s = slurp(test::data_file("scripts/" + name));
+  auto replace_all = [&](const std::string& a, const std::string& b) {
+    for (std::size_t pos = s.find(a); pos != std::string::npos; pos = s.find(a, pos + b.size())) s.replace(pos, a.size(), b);
+  };
+  replace_all("@ASSETS@", assets_dir().string());
+  replace_all("@OUT@", dir.string());
+  const auto out = dir / name;
+  std::ofstream(out) << s;
+  return out;
+}
+
+int run_binary(const std::string& prefix, const std::string& args, const std::filesystem::path& dir) {
+  const std::string cmd = prefix + " \"" + ANISURF_BINARY + "\" " + args + " >" + (dir / "stdout.txt").string() + " 2>" +
+                          (dir / "stderr.txt").string();
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// The screenshots of panels.anisurf, checked the same way headless and in the window.
+void check_panel_screenshots(const std::filesystem::path& dir) {
+  auto img = [&](const char* name) {
+    const auto p = dir / name;
+    REQUIRE_MESSAGE(std::filesystem::exists(p), p.string());
+    return render::read_png(p.string());
+  };
+  const render::Image open = img("00_open.png"), metric_back = img("01_metric_back.png"), paint = img("02_paint.png"),
+                      undone = img("03_undone.png"), step = img("04_step.png"), run = img("05_run.png"),
+                      select = img("06_select.png"), bezier = img("07_bezier.png"), display = img("08_display.png"),
+                      reset = img("09_reset.png");
+  const int x0 = 400;  // right of the panel
+  const int x1 = open.width - 300;  // left of the legend
+  // Back to the file's metric: the same picture as after opening.
+  CHECK(diff(open, metric_back, x0).count < 200);
+  // The dab at (1, 0, 0) faces the camera (view right): the picture changes
+  // around the sphere's centre on the screen, and only there.
+  const auto box = object_box(open, x0, x1);
+  const Diff dp = diff(open, paint, x0);
+  MESSAGE("paint: " << dp.count << " pixels changed around (" << dp.cx << ", " << dp.cy << "); sphere centre (" << box[0]
+                    << ", " << box[1] << "), radius " << box[2]);
+  CHECK(dp.count > 2000);
+  CHECK(std::hypot(dp.cx - box[0], dp.cy - box[1]) < 0.25 * box[2]);
+  // Every edit undone: the opening picture again.
+  CHECK(diff(open, undone, x0).count < 200);
+  // A step and a run change the mesh (the wireframe is off: the colours of
+  // the finer mesh differ), the selection shows highlighted triangles.
+  CHECK(diff(open, run, x0).count > 5000);
+  CHECK(highlighted(run, x0) < 50);
+  CHECK(highlighted(select, x0) > 100);
+  CHECK(diff(run, bezier, x0).count > 5000);
+  CHECK(diff(bezier, display, x0).count > 5000);
+  CHECK(diff(open, reset, x0).count > 1000);  // the view changed (iso, glyphs), the mesh is the input again
+  (void)step;
+  // The saved mesh and metric.
+  CHECK(std::filesystem::file_size(dir / "adapted.mesh") > 10000);
+  CHECK(std::filesystem::file_size(dir / "adapted.sol") > 10000);
+}
+
+}  // namespace
+
+TEST_CASE("editor: control net of a Clough-Tocher patch: 3 quartic subtriangles, inner edges shared") {
+  const auto& e = render::control_net_edges();
+  CHECK(e.size() == 3 * 30 - 3 * 4);
+  for (const auto& [a, b] : e) {
+    CHECK(a < b);
+    CHECK(b < BezierSurface::kControlPoints);
+  }
+}
+
+TEST_CASE("editor: undo / redo restore the metric exactly") {
+  EditorSession s;
+  s.open(demo_mesh(), demo_sol());
+  const MetricField m0 = s.metric();
+  s.begin_stroke();
+  s.dab(Vec3(1, 0, 0), {});
+  s.dab(Vec3(0.9, 0.3, 0), Vec3(0, 1, 0));
+  s.end_stroke();
+  const MetricField m1 = s.metric();
+  CHECK(!same(m0, m1));
+  s.brush().mode = Brush::Mode::Smooth;
+  s.dab(Vec3(0, 1, 0));
+  const MetricField m2 = s.metric();
+  MetricSettings iso = s.settings();
+  iso.source = MetricSettings::Source::Iso;
+  iso.iso = 0.3;
+  s.set_settings(iso);
+  const MetricField m3 = s.metric();
+  s.brush().mode = Brush::Mode::Erase;
+  s.dab(Vec3(0, 0, 1));  // back towards the iso field: no change expected there
+  CHECK(s.undo());
+  CHECK(same(s.metric(), m3));
+  CHECK(s.undo());
+  CHECK(same(s.metric(), m2));
+  CHECK(s.settings().source == MetricSettings::Source::Sol);
+  CHECK(s.undo());
+  CHECK(same(s.metric(), m1));
+  CHECK(s.undo());
+  CHECK(same(s.metric(), m0));
+  CHECK(!s.undo());
+  CHECK(s.redo());
+  CHECK(same(s.metric(), m1));
+  CHECK(s.redo());
+  CHECK(same(s.metric(), m2));
+  CHECK(s.redo());
+  CHECK(same(s.metric(), m3));
+  CHECK(s.settings().source == MetricSettings::Source::Iso);
+}
+
+TEST_CASE("editor: the brush changes the metric within its radius, towards its size, stretched along the direction") {
+  EditorSession s;
+  s.open(demo_mesh(), demo_sol());
+  const MetricField m0 = s.metric();
+  const Vec3 c(1, 0, 0);
+  Brush& b = s.brush();
+  b.radius = 0.4;
+  b.size = 0.01;
+  b.stretch = 5;
+  b.strength = 1;
+  s.dab(c, Vec3(0, 1, 0));
+  const SurfaceMesh& m = s.input();
+  int inside = 0;
+  for (int v = 0; v < m.vertex_capacity(); ++v) {
+    const double d = norm(m.position(Vertex(v)) - c);
+    if (d >= b.radius) {
+      CHECK(s.metric()[v].m == m0[v].m);
+    } else if (d < 0.05) {
+      // At the centre: the target, sizes 0.05 along y and 0.01 across.
+      ++inside;
+      CHECK(std::sqrt(1 / quad(s.metric()[v], Vec3(0, 1, 0))) == doctest::Approx(0.05).epsilon(0.02));
+      CHECK(std::sqrt(1 / quad(s.metric()[v], Vec3(0, 0, 1))) == doctest::Approx(0.01).epsilon(0.02));
+      CHECK(tangent_size(s.metric()[v]) < tangent_size(m0[v]));
+    }
+  }
+  CHECK(inside >= 1);
+  CHECK(s.predicted_vertices() > 0);
+}
+
+TEST_CASE("editor: adaptation pass by pass, timeline, cancel and reset") {
+  EditorSession s;
+  s.open(demo_mesh(), demo_sol());
+  CHECK(s.timeline().size() == 1);
+  s.step();
+  s.wait();
+  auto tl = s.timeline();
+  REQUIRE(tl.size() == 2);
+  CHECK(tl[1]->has_report);
+  CHECK(tl[1]->report.kind == remesh::PassKind::Swap);  // the initial swaps
+  s.run(3);
+  s.wait();
+  tl = s.timeline();
+  REQUIRE(tl.size() == 5);
+  CHECK(tl[2]->report.kind == remesh::PassKind::Split);
+  CHECK(tl[2]->report.splits > 0);
+  CHECK(tl[2]->mesh.n_vertices() > tl[1]->mesh.n_vertices());
+  // Scrub back and run from there: the timeline is cut after the shown pass.
+  s.scrub(2);
+  CHECK(s.display().snapshot == tl[2]);
+  s.step();
+  s.wait();
+  CHECK(s.timeline().size() == 4);
+  s.run();
+  s.wait();
+  tl = s.timeline();
+  CHECK(tl.back()->schedule.phase == Schedule::Phase::Done);
+  CHECK(tl.back()->report.kind == remesh::PassKind::Final);
+  CHECK(tl.back()->mesh.validate().ok());
+  const Analysis& a = s.analysis();
+  MESSAGE("demo adapted: " << tl.size() - 1 << " passes, " << tl.back()->mesh.n_vertices() << " vertices, in band "
+                           << 100 * a.in_band_share << "%, q mean " << a.quality_mean);
+  CHECK(a.in_band_share > 0.8);
+  CHECK(a.quality_mean > 0.8);
+  s.reset();
+  CHECK(s.timeline().size() == 1);
+  CHECK(s.display().snapshot->mesh.n_vertices() == 162);
+}
+
+TEST_CASE("editor: a histogram bin selects its elements; the worst one is the farthest from the unit") {
+  EditorSession s;
+  s.open(demo_mesh(), demo_sol());
+  const Analysis a = s.analysis();
+  int total = 0;
+  for (int c : a.quality_histogram) total += c;
+  CHECK(total == s.input().n_triangles());
+  int bin = 0;
+  for (int i = 0; i < kQualityBins; ++i)
+    if (a.quality_histogram[i] > 0) bin = i;
+  s.select_bin(BinKind::Quality, bin);
+  const Selection& sel = s.selection();
+  CHECK(static_cast<int>(sel.triangles.size()) == a.quality_histogram[bin]);
+  for (std::size_t i = 0; i < a.triangles.size(); ++i)
+    if (std::find(sel.triangles.begin(), sel.triangles.end(), a.triangles[i]) != sel.triangles.end()) {
+      CHECK(a.quality[i] >= bin / 10.0);
+      CHECK(a.quality[i] >= sel.worst_value);
+    }
+  s.select_bin(BinKind::Length, 3);  // edges [0.71, 0.9): none on the coarse input
+  CHECK(s.selection().triangles.empty());
+  CHECK_THROWS_WITH_AS(s.select_bin(BinKind::Quality, 10), doctest::Contains("bins 0 to 9"), Error);
+}
+
+TEST_CASE("editor: script errors name the file and the line") {
+  const auto dir = test::temp_dir("editor_script_errors");
+  EditorSession s;
+  ViewState v;
+  ScriptHost host;
+  auto run = [&](const std::string& text) {
+    std::ofstream(dir / "bad.anisurf") << "open " << demo_mesh() << " " << demo_sol() << "\n# comment\n\n" << text << "\n";
+    for (const auto& l : read_script((dir / "bad.anisurf").string())) execute(l, s, v, host);
+  };
+  const std::string at = (dir / "bad.anisurf").string() + ":4: ";
+  auto error_of = [&](const std::string& text) -> std::string {
+    try {
+      run(text);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  CHECK_MESSAGE(error_of("metric iso -1").find(at + "metric iso: H must be > 0") != std::string::npos, error_of("metric iso -1"));
+  CHECK_MESSAGE(error_of("metric size 0.1 + foo").find(at + "metric: ") != std::string::npos, error_of("metric size 0.1 + foo"));
+  CHECK_MESSAGE(error_of("paint 1 0 0 0.1").find(at + "usage: paint X Y Z RADIUS SIZE") != std::string::npos, error_of("paint 1 0 0 0.1"));
+  CHECK_MESSAGE(error_of("select-bin angle 2").find(at + "usage: select-bin length|quality I") != std::string::npos, error_of("select-bin angle 2"));
+  CHECK_MESSAGE(error_of("color purple").find(at + "color: expects") != std::string::npos, error_of("color purple"));
+  CHECK_MESSAGE(error_of("undo").find(at + "undo: nothing to undo") != std::string::npos, error_of("undo"));
+  CHECK_MESSAGE(error_of("frobnicate").find(at + "unknown command 'frobnicate'") != std::string::npos, error_of("frobnicate"));
+  CHECK_MESSAGE(error_of("open /nonexistent/x.mesh").find(at + "open: ") != std::string::npos, error_of("open /nonexistent/x.mesh"));
+  // A failing metric leaves the session as it was.
+  CHECK(s.settings().source == MetricSettings::Source::Sol);
+  CHECK(!s.can_undo());
+}
+
+TEST_CASE("editor: the session's journal replays to the same metric") {
+  const auto dir = test::temp_dir("editor_journal");
+  EditorSession s;
+  s.open(demo_mesh(), demo_sol());
+  MetricSettings m = s.settings();
+  m.hgrad = 1.5;
+  s.set_settings(m);
+  s.brush().mode = Brush::Mode::Set;
+  s.brush().radius = 0.3;
+  s.brush().size = 0.02;
+  s.brush().stretch = 3;
+  s.dab(Vec3(0, 1, 0), Vec3(1, 0, 0));
+  s.brush().mode = Brush::Mode::Smooth;
+  s.brush().strength = 0.5;
+  s.dab(Vec3(0, 0.9, 0.2));
+  {
+    std::ofstream out(dir / "journal.anisurf");
+    for (const auto& l : s.journal()) out << l << "\n";
+  }
+  EditorSession r;
+  ViewState v;
+  for (const auto& l : read_script((dir / "journal.anisurf").string())) execute(l, r, v, {});
+  REQUIRE(r.metric().size() == s.metric().size());
+  double worst = 0;
+  for (std::size_t i = 0; i < s.metric().size(); ++i)
+    for (int k = 0; k < 6; ++k)
+      worst = std::max(worst, std::abs(r.metric()[i].m[k] - s.metric()[i].m[k]) / (std::abs(s.metric()[i].m[k]) + 1.0));
+  CHECK(worst < 1e-6);  // the journal prints 9 significant digits
+}
+
+TEST_CASE("editor: scripted session of every panel, headless") {
+  const auto dir = test::temp_dir("editor_panels_headless");
+  const auto script = instantiate("panels.anisurf", dir);
+  const int code = run_binary("env -u DISPLAY", "--script " + script.string() + " --headless --size 1280x800", dir);
+  INFO(slurp(dir / "stderr.txt"));
+  REQUIRE(code == 0);
+  check_panel_screenshots(dir);
+}
+
+TEST_CASE("editor: scripted session of every panel, in the window under xvfb-run") {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) {
+    MESSAGE("skipped: xvfb-run not installed (apt-get install xvfb xauth)");
+    return;
+  }
+  const auto dir = test::temp_dir("editor_panels_window");
+  const auto script = instantiate("panels.anisurf", dir);
+  std::ofstream(script, std::ios::app) << "quit\n";
+  const int code = run_binary("xvfb-run -a -s \"-screen 0 1280x800x24\"", "--script " + script.string() + " --size 1280x800", dir);
+  INFO(slurp(dir / "stderr.txt"));
+  REQUIRE(code == 0);
+  check_panel_screenshots(dir);
+}
+
+TEST_CASE("editor: command lines") {
+  const auto dir = test::temp_dir("editor_cli");
+  CHECK(run_binary("", "--script", dir) == 2);
+  CHECK(run_binary("", "--script /nonexistent.anisurf --headless", dir) == 1);
+  CHECK(slurp(dir / "stderr.txt").find("/nonexistent.anisurf: cannot read the script") != std::string::npos);
+  CHECK(run_binary("", "--help-script", dir) == 0);
+  CHECK(slurp(dir / "stdout.txt").find("select-bin length|quality I") != std::string::npos);
+  // Without a display the window fails with a hint (exit code 1).
+  CHECK(run_binary("env -u DISPLAY", demo_mesh(), dir) == 1);
+  CHECK(slurp(dir / "stderr.txt").find("no DISPLAY") != std::string::npos);
+  // Subcommands still reach the regular command line.
+  CHECK(run_binary("", "info " + demo_mesh(), dir) == 0);
+}
+#endif
