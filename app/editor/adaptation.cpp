@@ -1,5 +1,9 @@
 #include "editor/adaptation.h"
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include <chrono>
 
 #include "core/error.h"
@@ -116,6 +120,9 @@ void Adaptation::rebuild_from(const Snapshot& s) {
 }
 
 void Adaptation::work(std::size_t from, int max_passes) {
+  // Below the window's threads (and llvmpipe's): the window keeps drawing
+  // while the passes run. Best effort: ignored if refused.
+  setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 5);
   try {
     std::shared_ptr<const Snapshot> start;
     {

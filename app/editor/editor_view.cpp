@@ -53,6 +53,7 @@ void EditorView::rebuild_mesh(const ViewState& view, const EditorSession& sessio
   // The vertices the displayed pass created, kept or moved.
   if (shown_->has_report && !shown_->report.touched.empty()) {
     render::Markers mk{"touched by the pass", {}, {1.0f, 0.55f, 0.0f}, 3.0f, view.show_touched};
+    if (shown_->report.touched.size() > 3000) mk.radius_px = 1.8f;  // dense: dots
     std::vector<char> seen(mesh_.draw_vertex.size(), 0);
     for (int v : shown_->report.touched)
       if (v >= 0 && v < static_cast<int>(mesh_.draw_vertex.size()) && mesh_.draw_vertex[v] >= 0 && !seen[v]) {
@@ -88,7 +89,13 @@ void EditorView::update(EditorSession& session, ViewState& view, render::Scene& 
     shown_.reset();
     return;
   }
-  if (d.snapshot != shown_ || !d.snapshot) {
+  // While the adaptation runs, a new pass is shown at most every 0.4 s (the
+  // structure is rebuilt on this thread; the rest of the time goes to the
+  // worker and to drawing).
+  const auto now = std::chrono::steady_clock::now();
+  const bool throttled = session.running() && shown_ && now - last_rebuild_ < std::chrono::milliseconds(400);
+  if (d.snapshot != shown_ && !throttled) {
+    last_rebuild_ = now;
     shown_ = d.snapshot;
     rebuild_mesh(view, session);
     structures_changed = true;

@@ -3,6 +3,7 @@
 // the touched vertices of the displayed pass, the selection, the G1 surface
 // and its control net), rebuilding only what changed, and answers picks.
 #pragma once
+#include <chrono>
 #include <memory>
 #include <optional>
 
@@ -47,7 +48,8 @@ class EditorView {
   int kept_for_ = -1;           // session.opened() the ranges belong to
   bool kept_initial_ = false;   // the last structure showed the initial state
   MetricSettings kept_settings_;  // and was made with these settings
-  std::uint64_t counter_ = 1000;  // structure versions (the renderer re-uploads on a change)
+  std::uint64_t counter_ = 1000;
+  std::chrono::steady_clock::time_point last_rebuild_;  // structure versions (the renderer re-uploads on a change)
 };
 
 }  // namespace anisurf::editor
