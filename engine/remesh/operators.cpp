@@ -156,9 +156,17 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
   const Vec3 sn = plan.kind == VertexKind::Free ? plan.at.normal : Vec3();
   plan.why = check(plan.at.position, sn);
   if (plan.why != Rejection::None) {
-    // Section 5.3: the projection is not admissible, the midpoint is used.
+    // Section 5.3: the projection is not admissible, the midpoint is used,
+    // if it is close enough to the surface for the triangles around it
+    // (a vertex far off a thin triangle would tilt everything refined
+    // around it later).
     const Rejection first = plan.why;
-    plan.why = check(mid, Vec3());
+    double min_height = INFINITY;
+    const double len = norm(mesh.position(d) - mesh.position(b));
+    for (Corner k : {c, mesh.opposite(c)})
+      if (k.is_valid()) min_height = std::min(min_height, norm(mesh.triangle_normal(M::triangle(k))) / len);
+    const double off = norm(plan.at.position - mid);
+    plan.why = off <= o.split_fallback_offset * min_height ? check(mid, Vec3()) : first;
     if (plan.why == Rejection::None) {
       plan.projected = false;
       plan.at.position = mid;

@@ -48,6 +48,10 @@ struct OperatorOptions {
   // segment's length: bounds the chordal error that successive collapses
   // would otherwise accumulate on curved ridges and boundaries.
   double max_curve_sag = 0.02;
+  // Split: the straight midpoint replaces a refused projection (section 5.3)
+  // only when the projection is within this share of the smallest height of
+  // the split triangles.
+  double split_fallback_offset = 0.05;
   // Collapse: the worst new quality must be at least the worst old quality
   // or this threshold (section 5.1's metric check).
   double collapse_quality = 0.3;
@@ -78,8 +82,9 @@ struct SplitPlan {
 };
 // New vertex at the projection of the midpoint (onto the feature curve for a
 // feature edge). Refused when a new triangle would be inverted or turned
-// too far with respect to the triangle it halves, at the projection and at
-// the straight midpoint. When both new edges to the opposite vertices would
+// too far with respect to the triangle it halves, at the projection and
+// (when it is close to the surface: split_fallback_offset) at the straight
+// midpoint. When both new edges to the opposite vertices would
 // be shorter than lmin and the edge can be swapped (can_swap), the plan is
 // that swap instead (section 5.3, figure 14).
 SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o);
