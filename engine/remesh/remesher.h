@@ -29,7 +29,7 @@ struct RemeshOptions {
   // run() stops when a round splits and collapses at most this share of the
   // vertices (0: only when nothing changes).
   double converged_share = 0.005;
-  int smoothing_passes = 2;          // smoothing passes per round
+  int smoothing_passes = 1;          // smoothing passes per round
   int final_smoothing_passes = 10;   // section 6's final optimisation: "about 8-10"
   int cache_size = 10;               // Remark 5: the last 10 modifications
   int relaxed_smoothing_passes = 4;  // Remark 4: the first passes accept a slightly worse quality
