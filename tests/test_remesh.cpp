@@ -373,3 +373,37 @@ TEST_CASE("remesh: the metric of every T_1 vertex is T_0's metric interpolated a
     CHECK(checked == out.n_vertices());
   }
 }
+
+TEST_CASE("remesh: Remark 6 relaxation: intermediate metrics between the mesh's sizes and the target, then the target") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
+  auto s = make_setup(mesh, sol, 0, true);
+  ControlSpace& c = *s->control;
+  // t = 0: the sizes of the input mesh itself (mean incident edge length).
+  c.set_relaxation(0);
+  const Vertex v(0);
+  double sum = 0;
+  int n = 0;
+  for (Vertex w : one_ring(s->input, v)) {
+    sum += norm(s->input.position(w) - s->input.position(v));
+    ++n;
+  }
+  CHECK(c.metric()[0].xx() == doctest::Approx(1 / ((sum / n) * (sum / n))));
+  // t = 1/2: the geometric mean of the sizes (log-Euclidean).
+  c.set_relaxation(0.5);
+  const double h_target = 1 / std::sqrt(c.target_metric()[0].xx());
+  CHECK(1 / std::sqrt(c.metric()[0].xx()) == doctest::Approx(std::sqrt(h_target * sum / n)));
+  c.set_relaxation(1);
+  CHECK(c.metric()[0] == c.target_metric()[0]);
+
+  RemeshOptions o;
+  o.op.lmin = 0.72;
+  o.relaxation_stages = 2;
+  Remesher r(*s->adapted, o);
+  r.run();
+  check_state(*s->adapted, "relaxed run");
+  CHECK(c.metric()[0] == c.target_metric()[0]);
+  const PassReport after = r.measure();
+  CHECK(after.in_band_share > 0.95);
+  CHECK(after.q_min > 0.3);
+}

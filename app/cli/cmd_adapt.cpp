@@ -47,6 +47,8 @@ const char* kAdaptHelp =
     "  --surface S          g1 (the G1 Bezier surface of section 3, default) or\n"
     "                       polyhedral (the input triangles)\n"
     "  --iterations N       at most N rounds of split/collapse/swap/smooth (default 30)\n"
+    "  --relax N            Remark 6: adapt first to N relaxed metrics between the\n"
+    "                       input mesh's sizes and the target (default 0: off)\n"
     "  --report FILE        per-pass report (JSON)\n"
     "  -v N                 verbosity: 0 quiet, 1 per round (default), 2 per pass\n"
     "  -o OUT | -out OUT    output mesh (required); the metric goes to OUT.sol\n"
@@ -109,6 +111,8 @@ int run_adapt(const std::vector<std::string>& args) {
   ro.op.lmin = p.option_double("--lmin", ro.op.lmin);
   ro.op.lmax = p.option_double("--lmax", ro.op.lmax);
   ro.max_iterations = static_cast<int>(p.option_double("--iterations", ro.max_iterations));
+  ro.relaxation_stages = static_cast<int>(p.option_double("--relax", 0));
+  if (ro.relaxation_stages < 0) throw UsageError{"--relax expects a number of stages >= 0"};
   const std::string length = p.option("--length");
   const std::string surface = p.option("--surface");
   const std::string report_path = p.option("--report");

@@ -99,6 +99,18 @@ Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, const std::vector<V
   return p;
 }
 
+void AdaptedMesh::refresh_values() {
+  for (int i = 0; i < mesh_.vertex_capacity(); ++i) {
+    const Vertex v(i);
+    if (mesh_.is_deleted(v) || mesh_.is_isolated(v)) continue;
+    // Located again (as a fixed point: the position does not change).
+    const Placement p = place(mesh_.position(v), VertexKind::Fixed, {v});
+    metric_[v] = p.values.metric;
+    hint_0_[v] = p.hint_0;
+    for (std::size_t f = 0; f < solution_.size() && f < p.values.fields.size(); ++f) solution_[f][v] = p.values.fields[f];
+  }
+}
+
 Placement AdaptedMesh::current(Vertex v) const {
   Placement p;
   p.position = mesh_.position(v);

@@ -58,6 +58,10 @@ class AdaptedMesh {
   // vertex, when it moves) and move.
   void commit(Vertex v, const Placement& p);
 
+  // Every vertex takes again the values of T_0 at its position (after the
+  // control space changed its metric: Remark 6). Positions are kept.
+  void refresh_values();
+
   const SymTensor3& metric(Vertex v) const { return metric_[v]; }
   // Unit surface normal at v's location (zero on feature curves and corners).
   const Vec3& surface_normal(Vertex v) const { return normal_[v]; }

@@ -5,6 +5,7 @@
 #include "geometry/normals.h"
 #include "locate/interpolate.h"
 #include "locate/surface_projection.h"
+#include "mesh/operators.h"
 
 namespace anisurf::remesh {
 
@@ -61,11 +62,38 @@ ControlSpace::ControlSpace(const SurfaceMesh& mesh, MetricField metric, bool sam
                            MetricInterpolation interpolation, const std::string& metric_field_name)
     : mesh_(mesh), metric_(std::move(metric)), interpolation_(interpolation) {
   assert(static_cast<int>(metric_.size()) >= mesh.vertex_capacity());
+  target_ = metric_;
   if (!same_as_geometry) locator_ = std::make_unique<Locator>(mesh);
   for (const FieldInfo& f : mesh.fields()) {
     if (f.name == metric_field_name) continue;
     infos_.push_back(f);
     fields_.push_back(mesh.get_field(f.name));
+  }
+}
+
+void ControlSpace::set_relaxation(double t) {
+  if (t >= 1) {
+    metric_ = target_;
+    return;
+  }
+  if (implied_.empty()) {
+    implied_.assign(target_.size(), SymTensor3::identity());
+    for (int i = 0; i < mesh_.vertex_capacity(); ++i) {
+      const Vertex v(i);
+      if (mesh_.is_deleted(v) || mesh_.is_isolated(v)) continue;
+      double sum = 0;
+      int n = 0;
+      for (Vertex w : one_ring(mesh_, v)) {
+        sum += norm(mesh_.position(w) - mesh_.position(v));
+        ++n;
+      }
+      if (n > 0 && sum > 0) implied_[i] = isotropic_metric(sum / n);
+    }
+  }
+  for (int i = 0; i < mesh_.vertex_capacity(); ++i) {
+    const Vertex v(i);
+    if (mesh_.is_deleted(v) || mesh_.is_isolated(v)) continue;
+    metric_[i] = tensor_exp((1 - t) * tensor_log(implied_[i]) + t * tensor_log(target_[i]));
   }
 }
 

@@ -104,13 +104,23 @@ class ControlSpace {
   SymTensor3 metric_at(const Location& where) const;
 
   const SurfaceMesh& mesh() const { return mesh_; }
+  // The metric in use (the target, or a relaxed one: set_relaxation).
   const MetricField& metric() const { return metric_; }
+  const MetricField& target_metric() const { return target_; }
+
+  // Remark 6: the metric in use becomes the log-Euclidean interpolation
+  // exp((1 - t) log M_0 + t log M) between the metric M_0 the mesh T_0
+  // already satisfies (isotropic, the mean length of the edges at each
+  // vertex) and the target M; t = 1 restores the target.
+  void set_relaxation(double t);
   const std::vector<FieldInfo>& field_infos() const { return infos_; }
   bool same_as_geometry() const { return !locator_; }
 
  private:
   const SurfaceMesh& mesh_;
   MetricField metric_;
+  MetricField target_;
+  MetricField implied_;  // M_0 of set_relaxation, computed on first use
   MetricInterpolation interpolation_;
   std::unique_ptr<Locator> locator_;  // null when T_0 is T_G
   std::vector<FieldInfo> infos_;

@@ -354,12 +354,22 @@ std::vector<PassReport> Remesher::run(const std::function<void(const PassReport&
     return out.back().changes();
   };
   if (options_.initial_swaps) record(step(PassKind::Swap));
-  for (iteration_ = 1; iteration_ <= options_.max_iterations; ++iteration_) {
-    const int s = record(step(PassKind::Split));
-    const int c = record(step(PassKind::Collapse));
-    record(step(PassKind::Swap));
-    for (int p = 0; p < options_.smoothing_passes; ++p) record(step(PassKind::Smooth));
-    if (s + c <= options_.converged_share * mesh_.mesh().n_vertices()) break;
+  const int stages = std::max(0, options_.relaxation_stages);
+  ControlSpace& control = mesh_.control();
+  for (int stage = 0; stage <= stages; ++stage) {
+    if (stages > 0) {
+      control.set_relaxation(static_cast<double>(stage + 1) / (stages + 1));
+      mesh_.refresh_values();
+      mark_all();
+    }
+    const int first = iteration_ + 1;
+    for (++iteration_; iteration_ < first + options_.max_iterations; ++iteration_) {
+      const int s = record(step(PassKind::Split));
+      const int c = record(step(PassKind::Collapse));
+      record(step(PassKind::Swap));
+      for (int p = 0; p < options_.smoothing_passes; ++p) record(step(PassKind::Smooth));
+      if (s + c <= options_.converged_share * mesh_.mesh().n_vertices()) break;
+    }
   }
   record(step(PassKind::Final));
   return out;

@@ -37,6 +37,10 @@ struct RemeshOptions {
   bool initial_swaps = true;         // section 6: an initial swap pass improves the result
   bool local_swaps = true;           // section 6, step 2: swaps around each split / collapse
   int max_swap_sweeps = 8;           // a swap pass stops after this many visits per edge
+  // Remark 6: for metrics far from the initial mesh, run() first adapts to
+  // `relaxation_stages` relaxed metrics (ControlSpace::set_relaxation with
+  // t = 1/(n+1) ... n/(n+1)), then to the target. 0: off.
+  int relaxation_stages = 0;
 };
 
 enum class PassKind { Split, Collapse, Swap, Smooth, Final };
@@ -75,7 +79,8 @@ class Remesher {
   PassReport step(PassKind kind);
   // Initial swaps, then rounds of split, collapse, swap and smoothing until a
   // round neither splits nor collapses (or max_iterations), then the final
-  // optimisation. `progress` is called after each pass.
+  // optimisation. `progress` is called after each pass. With
+  // relaxation_stages, the rounds run once per relaxed metric first.
   // (Rounds also stop when they change at most converged_share of the vertices.)
   std::vector<PassReport> run(const std::function<void(const PassReport&)>& progress = {});
 
