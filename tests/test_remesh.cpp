@@ -407,3 +407,26 @@ TEST_CASE("remesh: Remark 6 relaxation: intermediate metrics between the mesh's 
   CHECK(after.in_band_share > 0.95);
   CHECK(after.q_min > 0.3);
 }
+
+TEST_CASE("remesh: Remark 5 cache: the edges of the last 10 modifications are protected from being undone") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
+  for (const int cache : {10, 0}) {
+    CAPTURE(cache);
+    auto s = make_setup(mesh, sol, 0, false);
+    RemeshOptions o;
+    o.cache_size = cache;
+    o.local_swaps = false;  // the spokes of a split vertex stay its four edges
+    Remesher r(*s->adapted, o);
+    const PassReport split = r.step(PassKind::Split);
+    REQUIRE(split.splits > 20);
+    const SurfaceMesh& m = s->adapted->mesh();
+    const Vertex last(split.touched.back()), first(split.touched.front());
+    for (Vertex w : one_ring(m, last)) {
+      CHECK(r.in_cache(last, w, PassKind::Collapse) == (cache > 0));  // a collapse would undo the split
+      CHECK(!r.in_cache(last, w, PassKind::Split));
+    }
+    // Older modifications have left the cache (it holds the last 10).
+    for (Vertex w : one_ring(m, first)) CHECK(!r.in_cache(first, w, PassKind::Collapse));
+  }
+}

@@ -87,6 +87,9 @@ class Remesher {
   // The state of the mesh now (histogram, quality) without changing it.
   PassReport measure() const;
   const RemeshOptions& options() const { return options_; }
+  // Remark 5: true if edge a-b was created by a modification of another kind
+  // than `undoing` among the last cache_size ones (the passes refuse to undo it).
+  bool in_cache(Vertex a, Vertex b, PassKind undoing) const;
   AdaptedMesh& adapted() { return mesh_; }
 
  private:
@@ -102,9 +105,6 @@ class Remesher {
   // Swaps around v (its link edges) while they improve; returns the count.
   int local_swaps(Vertex v, PassReport& r);
   void remember(PassKind kind, Vertex v);
-  // True if edge a-b was created by a modification of another kind among the
-  // last cache_size ones (undoing it could cycle).
-  bool in_cache(Vertex a, Vertex b, PassKind undoing) const;
   void fill_state(PassReport& r) const;
   // Records v as touched by the pass and marks it and its neighbours for the
   // next swap and smoothing passes (which only visit marked vertices: the
