@@ -9,6 +9,7 @@
 #include "mesh/build.h"
 #include "mesh/stats.h"
 #include "mesh/surface_mesh.h"
+#include "test_geometry_util.h"
 
 using namespace anisurf;
 
@@ -21,19 +22,7 @@ MeshData tetrahedron() {
   return d;
 }
 
-// n x n grid of the unit square, 2 n^2 triangles, counter-clockwise seen from +z.
-MeshData grid(int n) {
-  MeshData d;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) d.vertices.push_back({double(i) / n, double(j) / n, 0});
-  auto id = [n](int i, int j) { return j * (n + 1) + i; };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      d.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      d.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
-  return d;
-}
+MeshData grid(int n) { return test::square_grid(n); }
 
 void require_valid(const SurfaceMesh& m) {
   auto r = m.validate();

@@ -9,24 +9,14 @@
 #include "mesh/build.h"
 #include "mesh/operators.h"
 #include "mesh/stats.h"
+#include "test_geometry_util.h"
 #include "test_util.h"
 
 using namespace anisurf;
 
 namespace {
 
-MeshData grid(int n) {
-  MeshData d;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) d.vertices.push_back({double(i) / n, double(j) / n, 0});
-  auto id = [n](int i, int j) { return j * (n + 1) + i; };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      d.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      d.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
-  return d;
-}
+MeshData grid(int n) { return test::square_grid(n); }
 
 void require_valid(const SurfaceMesh& m, const char* after) {
   auto r = m.validate();
