@@ -65,7 +65,11 @@ Constraint AdaptedMesh::constraint(VertexKind k) const {
 }
 
 VertexKind AdaptedMesh::kind(Vertex v) const {
-  if (mesh_.vertex_tags(v) & (kCorner | kRequired)) return VertexKind::Fixed;
+  const std::uint8_t tags = mesh_.vertex_tags(v);
+  if (tags & (kCorner | kRequired)) return VertexKind::Fixed;
+  // Vertices on feature edges carry kRidge / kBoundary (detect_features, and
+  // the split and collapse operators keep it so): the others are free.
+  if (!(tags & (kRidge | kBoundary)) && !mesh_.is_boundary(v)) return VertexKind::Free;
   const std::size_t n = feature_edges_at(mesh_, v).size();
   if (n == 0) return VertexKind::Free;
   return n == 2 ? VertexKind::Curve : VertexKind::Fixed;
