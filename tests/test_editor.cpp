@@ -274,6 +274,15 @@ TEST_CASE("editor: adaptation pass by pass, timeline, cancel and reset") {
   s.reset();
   CHECK(s.timeline().size() == 1);
   CHECK(s.display().snapshot->mesh.n_vertices() == 162);
+  // Cancel: back to where the run started, whenever the worker stops.
+  s.run(2);
+  s.wait();
+  REQUIRE(s.timeline().size() == 3);
+  s.run();
+  s.cancel();
+  s.wait();
+  CHECK(s.timeline().size() == 3);
+  CHECK(s.display().snapshot == s.timeline().back());
 }
 
 TEST_CASE("editor: a histogram bin selects its elements; the worst one is the farthest from the unit") {

@@ -302,6 +302,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     else
       glfwPollEvents();
     open_dropped(a);
+    a.session.poll();
     if (a.panels.quit_confirmed) glfwSetWindowShouldClose(window, GLFW_TRUE);
 
     // The script: the next line once the adaptation is idle and the last

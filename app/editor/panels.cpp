@@ -6,7 +6,11 @@
 #include <cmath>
 #include <cstdio>
 
+#include <filesystem>
+
 #include "core/error.h"
+#include "editor/editor_app.h"
+#include "editor/script.h"
 #include "metric/length.h"
 #include "metric/quality.h"
 #include "remesh/operators.h"
@@ -70,6 +74,18 @@ void file_panel(EditorSession& s, ViewState& v, PanelState& p) {
         }
       ImGui::EndCombo();
     }
+  }
+  const std::string autosave = autosave_path();
+  std::error_code ec;
+  if (std::filesystem::exists(autosave, ec) && ImGui::Button("Restore the autosaved session")) {
+    act(p, "restored " + autosave, [&] {
+      s.reset();
+      for (const auto& line : read_script(autosave)) {
+        execute(line, s, v, {});
+        s.wait();
+      }
+      p.edit_valid = false;
+    });
   }
   ImGui::Separator();
   input_text("save mesh", p.save_mesh);

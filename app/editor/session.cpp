@@ -408,6 +408,7 @@ void EditorSession::run(int max_passes) {
   if (!input_) throw Error("no mesh: open one first");
   if (stroke_) end_stroke();
   if (running()) return;
+  poll();
   if (!adaptation_) adaptation_ = std::make_unique<Adaptation>(*input_, metric_, adapt_settings_, t0_snapshot_);
   const std::size_t n = adaptation_->size();
   const std::size_t from = scrub_ >= 0 && static_cast<std::size_t>(scrub_) < n ? static_cast<std::size_t>(scrub_) : n - 1;
@@ -425,9 +426,18 @@ void EditorSession::pause() {
 void EditorSession::cancel() {
   if (!adaptation_) return;
   adaptation_->request_stop();
-  adaptation_->wait();
-  adaptation_->truncate(run_start_);
-  ++version_;
+  cancel_pending_ = true;  // the timeline is cut once the worker is idle (poll())
+  poll();
+}
+
+void EditorSession::poll() {
+  if (cancel_pending_ && adaptation_ && !adaptation_->running()) {
+    adaptation_->wait();
+    adaptation_->truncate(run_start_);
+    cancel_pending_ = false;
+    scrub_ = -1;
+    ++version_;
+  }
 }
 
 void EditorSession::reset() {
@@ -441,6 +451,7 @@ void EditorSession::reset() {
 
 void EditorSession::wait() {
   if (adaptation_) adaptation_->wait();
+  poll();
 }
 
 bool EditorSession::running() const { return adaptation_ && adaptation_->running(); }

@@ -123,7 +123,9 @@ class EditorSession {
   void step();
   void run(int max_passes = 0);
   void pause();   // stop after the current pass
-  void cancel();  // stop and go back to where the current run started
+  void cancel();  // stop and go back to where the current run started (once the pass in progress ends)
+  // Applies what waited for the worker to be idle (a cancel); call every frame.
+  void poll();
   void reset();   // back to T_0 (the timeline is dropped)
   void wait();
   bool running() const;
@@ -172,6 +174,7 @@ class EditorSession {
   std::shared_ptr<const Snapshot> t0_snapshot_;
   int scrub_ = -1;
   std::size_t run_start_ = 0;  // timeline size when the current run started
+  bool cancel_pending_ = false;
   Analysis analysis_;
   std::shared_ptr<const Snapshot> analysis_of_;
   std::uint64_t selection_counter_ = 0;
