@@ -113,3 +113,27 @@ TEST_CASE("anisurf adapt: bad command lines exit with 2, bad inputs with 1, noth
   CHECK(status == 1);  // a negative size: refused with the vertex named
   CHECK(!std::filesystem::exists(out));
 }
+
+TEST_CASE("anisurf adapt: --surface polyhedral --relax 1 --length log: vertices on the input triangles") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
+  const auto dir = test::temp_dir("adapt_options");
+  const std::string out = (dir / "o.mesh").string();
+  int status = -1;
+  adapt("'" + mesh + "' -sol '" + sol + "' --surface polyhedral --relax 1 --length log -v 0 -o '" + out + "'", &status);
+  REQUIRE(status == 0);
+  const SurfaceMesh m = load_mesh(out);
+  CHECK(m.validate().ok());
+  CHECK(m.n_vertices() > 500);
+  // hemi.mesh is a coarse polyhedron inscribed in the unit sphere: on its
+  // triangles, vertices are inside the sphere, by at most its chordal error.
+  for (int v = 0; v < m.vertex_capacity(); ++v) {
+    const double r = norm(m.position(Vertex(v)));
+    CHECK(r <= 1 + 1e-9);
+    CHECK(r >= 1 - 0.05);
+  }
+  adapt("'" + mesh + "' -sol '" + sol + "' --surface nurbs -o '" + out + "'", &status);
+  CHECK(status == 2);
+  adapt("'" + mesh + "' -sol '" + sol + "' --relax -1 -o '" + out + "'", &status);
+  CHECK(status == 2);
+}
