@@ -151,11 +151,14 @@ void Remesher::split_pass(PassReport& r) {
       ++r.rejected[static_cast<int>(plan.why)];
       continue;
     }
-    const Vertex v = split(mesh_, c, plan);
-    if (!v.is_valid()) {  // swapped instead (figure 14)
+    if (plan.swap_instead) {  // figure 14: a swap instead of the split
+      const Corner d = swap(mesh_, c);
       ++r.swaps;
+      touch(r, mesh.edge_from(d));
+      touch(r, mesh.edge_to(d));
       continue;
     }
+    const Vertex v = split(mesh_, c, plan);
     ++r.splits;
     if (!plan.projected) ++r.split_unprojected;
     remember(PassKind::Split, v);
