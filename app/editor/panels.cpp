@@ -262,9 +262,12 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
     std::vector<float> band;
     for (const auto& snap : tl)
       if (snap->has_report) band.push_back(static_cast<float>(100.0 * snap->report.in_band_share));
-    if (!band.empty())
-      ImGui::PlotLines("##band", band.data(), static_cast<int>(band.size()), 0, "edges in band (%)", 0.0f, 100.0f,
-                       ImVec2(260, 50));
+    if (!band.empty()) {
+      char overlay[64];
+      std::snprintf(overlay, sizeof overlay, "%.1f%%", band.back());
+      ImGui::PlotLines("edges in\nband", band.data(), static_cast<int>(band.size()), 0, overlay, 0.0f, 100.0f,
+                       ImVec2(260, 45));
+    }
   }
   ImGui::Checkbox("mark the vertices the pass touched", &v.show_touched);
   const auto& snap = tl[static_cast<std::size_t>(std::clamp(shown, 0, n - 1))];
@@ -315,24 +318,25 @@ int histogram(const char* id, const std::vector<int>& counts, BinKind kind, int 
 }
 
 void analysis_panel(EditorSession& s, ViewState& v, PanelState& p) {
-  if (!ImGui::CollapsingHeader("Analysis", ImGuiTreeNodeFlags_DefaultOpen) || !s.has_mesh()) return;
+  if (!s.has_mesh()) return;
   const Analysis& a = s.analysis();
   const Selection& sel = s.selection();
-  ImGui::Text("edge length in the metric: min %.3f mean %.3f max %.3f", a.length_min, a.length_mean, a.length_max);
-  ImGui::Text("in band [0.71, 1.41]: %.1f%% of %zu edges", 100 * a.in_band_share, a.edges.size());
+  ImGui::TextUnformatted("edge length in the metric");
+  ImGui::TextDisabled("min %.3f  mean %.3f  max %.3f", a.length_min, a.length_mean, a.length_max);
+  ImGui::TextDisabled("in [0.71, 1.41]: %.1f%% of %zu edges", 100 * a.in_band_share, a.edges.size());
   std::vector<int> lc(a.length_histogram.begin(), a.length_histogram.end());
   int clicked = histogram("##length", lc, BinKind::Length, sel.active && sel.kind == BinKind::Length ? sel.bin : -1,
                           IM_COL32(60, 110, 200, 255));
   if (clicked >= 0) act(p, "selected", [&] { s.select_bin(BinKind::Length, clicked); v.frame_selection = true; });
-  ImGui::Text("quality (eq. 17): min %.3f mean %.3f, >= 0.5: %.1f%%", a.quality_min, a.quality_mean,
-              100 * a.good_quality_share);
+  ImGui::TextUnformatted("triangle quality (eq. 17)");
+  ImGui::TextDisabled("min %.3f  mean %.3f  >= 0.5: %.1f%%", a.quality_min, a.quality_mean, 100 * a.good_quality_share);
   std::vector<int> qc(a.quality_histogram.begin(), a.quality_histogram.end());
   clicked = histogram("##quality", qc, BinKind::Quality, sel.active && sel.kind == BinKind::Quality ? sel.bin : -1,
                       IM_COL32(60, 160, 90, 255));
   if (clicked >= 0) act(p, "selected", [&] { s.select_bin(BinKind::Quality, clicked); v.frame_selection = true; });
   if (sel.active) {
-    ImGui::Text("selected: %s %s, %zu triangles; worst %.3f", bin_kind_name(sel.kind), bin_label(sel.kind, sel.bin).c_str(),
-                sel.triangles.size(), sel.worst_value);
+    ImGui::Text("selected: %s %s", bin_kind_name(sel.kind), bin_label(sel.kind, sel.bin).c_str());
+    ImGui::TextDisabled("%zu triangles, worst %.3f", sel.triangles.size(), sel.worst_value);
     if (ImGui::SmallButton("frame worst")) v.frame_selection = true;
     ImGui::SameLine();
     if (ImGui::SmallButton("clear")) s.clear_selection();
@@ -485,12 +489,22 @@ void draw_panels(EditorSession& session, ViewState& view, PanelState& panels, re
     metric_panel(session, panels);
     brush_panel(session, view, panels);
     adaptation_panel(session, view, panels);
-    analysis_panel(session, view, panels);
     bezier_panel(view);
     display_panel(view, scene);
     ui.panel_width = ImGui::GetWindowPos().x + ImGui::GetWindowWidth() + 8.0f;
   }
   ImGui::End();
+  // The analysis on the right, above the legend.
+  if (session.has_mesh()) {
+    ImGui::SetNextWindowPos(ImVec2(static_cast<float>(width) - 8.0f, 8.0f), ImGuiCond_FirstUseEver, ImVec2(1.0f, 0.0f));
+    ImGui::SetNextWindowBgAlpha(0.90f);
+    if (ImGui::Begin("Analysis", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings)) {
+      analysis_panel(session, view, panels);
+      const float w = static_cast<float>(width) - ImGui::GetWindowPos().x + 8.0f;
+      if (!ImGui::IsWindowCollapsed()) ui.legend_width = std::max(ui.legend_width, w);
+    }
+    ImGui::End();
+  }
   hover_tooltip(session, nullptr, panels);
   quit_dialog(session, panels);
 }
