@@ -18,7 +18,7 @@ enum class Rejection : int {
   Topology,     // mesh/operators.h refused (link condition, boundary, existing diagonal ...)
   Fixed,        // a fixed (corner, required) vertex would be removed or moved
   Feature,      // a feature edge would be swapped, or a curve vertex left its curve
-  Tangent,      // collapse along a curve: the curve would turn too much
+  Tangent,      // a curve would turn or sag too much (collapse or move of a curve vertex)
   Inversion,    // a triangle would be inverted or degenerate
   Normal,       // a triangle normal would turn too far (from its old normal or the surface)
   Quality,      // eq. 17 quality: worse than the threshold and than before
@@ -38,7 +38,7 @@ struct OperatorOptions {
   // triangle it replaces (split, collapse, swap, move).
   double max_normal_turn_deg = 45.0;
   // Largest angle between a new triangle's normal and the surface normal at
-  // a free vertex it was placed at.
+  // each of its free vertices (stored per vertex when it was placed).
   double max_surface_angle_deg = 60.0;
   // Collapse along a curve: largest angle between the new curve segment and
   // each of the two segments it replaces (section 5.1, "tangent vectors").

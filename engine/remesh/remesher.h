@@ -9,7 +9,7 @@
 //
 //   Remesher r(adapted_mesh);
 //   PassReport s = r.step(PassKind::Split);   // one named pass
-//   std::vector<PassReport> all = r.run();    // until nothing changes
+//   std::vector<PassReport> all = r.run();    // rounds until (almost) nothing changes, then the final pass
 #pragma once
 #include <array>
 #include <chrono>
