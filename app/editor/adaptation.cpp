@@ -14,9 +14,17 @@ namespace anisurf::editor {
 using remesh::PassKind;
 using Clock = std::chrono::steady_clock;
 
+SharedGeometry start_geometry(const SurfaceMesh& input, const AdaptSettings& settings) {
+  const bool g1 = settings.g1_surface;
+  return std::async(std::launch::async, [&input, g1]() -> std::shared_ptr<remesh::GeometrySurface> {
+           if (g1) return std::make_shared<remesh::BezierGeometry>(input);
+           return std::make_shared<remesh::PolyhedralSurface>(input);
+         }).share();
+}
+
 Adaptation::Adaptation(const SurfaceMesh& input, MetricField metric, const AdaptSettings& settings,
-                       std::shared_ptr<const Snapshot> initial)
-    : input_(input), settings_(settings), metric_(std::move(metric)) {
+                       std::shared_ptr<const Snapshot> initial, SharedGeometry geometry)
+    : input_(input), settings_(settings), geometry_future_(std::move(geometry)), metric_(std::move(metric)) {
   timeline_.push_back(std::move(initial));
 }
 
@@ -106,10 +114,7 @@ void Adaptation::advance(Schedule& s, const remesh::PassReport& r, int n_vertice
 
 void Adaptation::rebuild_from(const Snapshot& s) {
   if (!geometry_) {
-    if (settings_.g1_surface)
-      geometry_ = std::make_unique<remesh::BezierGeometry>(input_);
-    else
-      geometry_ = std::make_unique<remesh::PolyhedralSurface>(input_);
+    geometry_ = geometry_future_.valid() ? geometry_future_.get() : start_geometry(input_, settings_).get();
     control_ = std::make_unique<remesh::ControlSpace>(input_, metric_, true);
   }
   remesher_.reset();

@@ -8,6 +8,7 @@
 #pragma once
 #include <atomic>
 #include <condition_variable>
+#include <future>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -48,12 +49,19 @@ struct Snapshot {
   std::string label;  // "initial", "3 split" ...
 };
 
+// The surface T_G over T_0 (G1 or polyhedral as settings say); it does not
+// depend on the metric, so a session builds it once per mesh, in the
+// background (start_geometry), and every adaptation of that mesh shares it.
+using SharedGeometry = std::shared_future<std::shared_ptr<remesh::GeometrySurface>>;
+SharedGeometry start_geometry(const SurfaceMesh& input, const AdaptSettings& settings);
+
 class Adaptation {
  public:
   // T_0 = `input` (features tagged; must outlive the adaptation) with
-  // `metric`. The timeline starts with `initial` (T_0's snapshot).
+  // `metric`, on `geometry` (built over `input`; used by one adaptation at a
+  // time). The timeline starts with `initial` (T_0's snapshot).
   Adaptation(const SurfaceMesh& input, MetricField metric, const AdaptSettings& settings,
-             std::shared_ptr<const Snapshot> initial);
+             std::shared_ptr<const Snapshot> initial, SharedGeometry geometry);
   ~Adaptation();  // stops the worker (after its current pass)
   Adaptation(const Adaptation&) = delete;
   Adaptation& operator=(const Adaptation&) = delete;
@@ -84,7 +92,8 @@ class Adaptation {
 
   const SurfaceMesh& input_;
   AdaptSettings settings_;
-  std::unique_ptr<remesh::GeometrySurface> geometry_;
+  SharedGeometry geometry_future_;
+  std::shared_ptr<remesh::GeometrySurface> geometry_;
   std::unique_ptr<remesh::ControlSpace> control_;
   std::unique_ptr<remesh::AdaptedMesh> adapted_;
   std::unique_ptr<remesh::Remesher> remesher_;

@@ -66,6 +66,8 @@ EditorSession::EditorSession() = default;
 
 EditorSession::~EditorSession() {
   if (adaptation_) adaptation_->request_stop();
+  adaptation_.reset();
+  if (geometry_.valid()) geometry_.wait();  // it reads input_
 }
 
 void EditorSession::log(const std::string& line) { journal_.push_back(line); }
@@ -102,7 +104,9 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
 
   if (adaptation_) adaptation_->request_stop();
   adaptation_.reset();
+  if (geometry_.valid()) geometry_.wait();  // the old one reads the old mesh
   std::swap(input_, mesh);
+  geometry_ = start_geometry(*input_, adapt_settings_);
   vertex_origin_ = report.vertex_origin;
   mesh_path_ = mesh_path;
   normals_.clear();
@@ -409,7 +413,7 @@ void EditorSession::run(int max_passes) {
   if (stroke_) end_stroke();
   if (running()) return;
   poll();
-  if (!adaptation_) adaptation_ = std::make_unique<Adaptation>(*input_, metric_, adapt_settings_, t0_snapshot_);
+  if (!adaptation_) adaptation_ = std::make_unique<Adaptation>(*input_, metric_, adapt_settings_, t0_snapshot_, geometry_);
   const std::size_t n = adaptation_->size();
   const std::size_t from = scrub_ >= 0 && static_cast<std::size_t>(scrub_) < n ? static_cast<std::size_t>(scrub_) : n - 1;
   run_start_ = from + 1;

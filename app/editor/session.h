@@ -171,6 +171,7 @@ class EditorSession {
   std::vector<MetricEdit> undo_, redo_;
   AdaptSettings adapt_settings_;
   std::unique_ptr<Adaptation> adaptation_;
+  SharedGeometry geometry_;  // T_G over input_, built in the background at open()
   std::shared_ptr<const Snapshot> t0_snapshot_;
   int scrub_ = -1;
   std::size_t run_start_ = 0;  // timeline size when the current run started
