@@ -137,3 +137,26 @@ TEST_CASE("anisurf adapt: --surface polyhedral --relax 1 --length log: vertices 
   adapt("'" + mesh + "' -sol '" + sol + "' --relax -1 -o '" + out + "'", &status);
   CHECK(status == 2);
 }
+
+TEST_CASE("anisurf adapt --geometry: the coarse hemisphere (T_0) adapted on the G1 surface of the fine sphere (T_G)") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
+  ANISURF_REQUIRE_SHARED(sphere, "bench/inputs/sphere20k.mesh");
+  const auto dir = test::temp_dir("adapt_geometry");
+  const std::string out = (dir / "o.mesh").string();
+  int status = -1;
+  adapt("'" + mesh + "' -sol '" + sol + "' --geometry '" + sphere + "' --lmin 0.72 -v 0 -o '" + out + "'", &status);
+  REQUIRE(status == 0);
+  const SurfaceMesh m = load_mesh(out);
+  CHECK(m.validate().ok());
+  CHECK(m.n_vertices() > 500);
+  // hemi.mesh's own triangles are up to 1.4e-2 inside the sphere; every
+  // vertex of the result is on the fine sphere's G1 surface.
+  double worst = 0, lowest = 0;
+  for (int v = 0; v < m.vertex_capacity(); ++v) {
+    worst = std::max(worst, std::abs(norm(m.position(Vertex(v))) - 1));
+    lowest = std::min(lowest, m.position(Vertex(v)).z);
+  }
+  CHECK(worst < 1e-5);
+  CHECK(lowest > -1e-6);  // the rim stays in its plane
+}

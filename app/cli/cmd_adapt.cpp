@@ -50,6 +50,8 @@ const char* kAdaptHelp =
     "  --surface S          g1: the G1 Bezier surface of section 3 at the parameters of\n"
     "                       the projection onto the input triangles (default);\n"
     "                       g1-closest: its closest point (slower); polyhedral\n"
+    "  --geometry G         T_G: another mesh of the surface to project onto (e.g. a\n"
+    "                       finer one); IN stays T_0, the metric's support\n"
     "  --iterations N       at most N rounds of split/collapse/swap/smooth (default 30)\n"
     "  --relax N            Remark 6: adapt first to N relaxed metrics between the\n"
     "                       input mesh's sizes and the target (default 0: off)\n"
@@ -119,6 +121,7 @@ int run_adapt(const std::vector<std::string>& args) {
   if (ro.relaxation_stages < 0) throw UsageError{"--relax expects a number of stages >= 0"};
   const std::string length = p.option("--length");
   const std::string surface = p.option("--surface");
+  const std::string geometry_path = p.option("--geometry");
   const std::string report_path = p.option("--report");
   std::string verb = p.option("-v", "--verbose");
   const int verbose = verb.empty() ? 1 : std::atoi(verb.c_str());
@@ -180,16 +183,24 @@ int run_adapt(const std::vector<std::string>& args) {
   }
   check_metric_field(input, metric, report.vertex_origin);
 
+  // T_G: the input itself, or another mesh of the same surface (--geometry).
+  SurfaceMesh separate_geometry;
+  const bool separate = !geometry_path.empty();
+  if (separate) {
+    separate_geometry = load_mesh(geometry_path);
+    detect_features(separate_geometry, fo);
+  }
+  const SurfaceMesh& tg = separate ? separate_geometry : input;
   std::unique_ptr<remesh::GeometrySurface> geometry;
   if (surface == "polyhedral")
-    geometry = std::make_unique<remesh::PolyhedralSurface>(input);
+    geometry = std::make_unique<remesh::PolyhedralSurface>(tg);
   else
     geometry = std::make_unique<remesh::BezierGeometry>(
-        input, surface == "g1-closest" ? remesh::BezierGeometry::Mode::Closest : remesh::BezierGeometry::Mode::Parametric);
-  remesh::ControlSpace control(input, metric, true, MetricInterpolation::Linear,
+        tg, surface == "g1-closest" ? remesh::BezierGeometry::Mode::Closest : remesh::BezierGeometry::Mode::Parametric);
+  remesh::ControlSpace control(input, metric, !separate, MetricInterpolation::Linear,
                                metric_name.empty() ? "metric" : metric_name);
   const LengthFormula formula = length == "log" ? LengthFormula::LinearSize : LengthFormula::LinearMetric;
-  remesh::AdaptedMesh adapted(input, *geometry, control, formula);
+  remesh::AdaptedMesh adapted(input, *geometry, control, formula, separate);
   const double t_setup = std::chrono::duration<double>(Clock::now() - t_start).count();
   if (verbose >= 1)
     std::fprintf(stderr, "adapt: %s: %d vertices, %d triangles, %d feature edges, %d corners; metric %s; %s surface (%.2f s)\n",

@@ -9,7 +9,8 @@
 
 namespace anisurf::remesh {
 
-AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, ControlSpace& control, LengthFormula length)
+AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, ControlSpace& control, LengthFormula length,
+                         bool project_initial)
     : mesh_(std::move(initial)), geometry_(geometry), control_(control), length_(length) {
   auto& props = mesh_.vertex_properties();
   for (const char* n : {"remesh:metric", "remesh:normal", "remesh:on_surface", "remesh:hint_g", "remesh:hint_0"})
@@ -27,7 +28,7 @@ AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, Control
 
   // Initial locations by propagation (section 4.3): breadth-first over T_1,
   // each vertex searched from the hints of the neighbour that reached it.
-  // Positions are kept: T_1 starts on the geometry.
+  // Positions are kept (T_1 starts on the geometry) unless project_initial.
   std::vector<char> seen(static_cast<std::size_t>(mesh_.vertex_capacity()), 0);
   std::deque<Vertex> queue;
   for (int s = 0; s < mesh_.vertex_capacity(); ++s) {
@@ -43,7 +44,7 @@ AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, Control
         if (seen[w.idx] == 2) near.push_back(w);
       const Vec3 x = mesh_.position(v);
       Placement p = place(x, kind(v), near);
-      p.position = x;
+      if (!project_initial) p.position = x;
       commit(v, p);
       seen[v.idx] = 2;
       for (Vertex w : one_ring(mesh_, v))

@@ -37,9 +37,12 @@ class AdaptedMesh {
  public:
   // T_1 starts as `initial` (usually a copy of T_0). Every vertex is located
   // in T_G and T_0 (section 4.3, by propagation) and takes its metric and
-  // solution values there. Pre: `initial` carries the feature tags of T_G.
+  // solution values there. Positions are kept, or with `project_initial`
+  // (T_G is another mesh than T_0) moved onto the geometry, fixed vertices
+  // excepted. Pre: `initial` carries its feature tags (those of T_G when it
+  // is a copy).
   AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, ControlSpace& control,
-              LengthFormula length = LengthFormula::LinearMetric);
+              LengthFormula length = LengthFormula::LinearMetric, bool project_initial = false);
 
   SurfaceMesh& mesh() { return mesh_; }
   const SurfaceMesh& mesh() const { return mesh_; }
