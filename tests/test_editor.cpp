@@ -354,6 +354,14 @@ TEST_CASE("editor: the session's journal replays to the same metric") {
   s.brush().mode = Brush::Mode::Smooth;
   s.brush().strength = 0.5;
   s.dab(Vec3(0, 0.9, 0.2));
+  // A stroke of three dabs, then one undo: the whole stroke goes, in the
+  // session and in the replay.
+  s.brush().mode = Brush::Mode::Set;
+  s.brush().stretch = 1;
+  s.begin_stroke();
+  for (double x : {-0.2, 0.0, 0.2}) s.dab(Vec3(x, 0, 1));
+  s.end_stroke();
+  s.undo();
   {
     std::ofstream out(dir / "journal.anisurf");
     for (const auto& l : s.journal()) out << l << "\n";

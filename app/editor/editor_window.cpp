@@ -114,6 +114,8 @@ void on_scroll(GLFWwindow* w, double, double dy) {
   a.scene.camera.zoom(static_cast<float>(std::pow(0.88, dy)));
 }
 
+void on_close(GLFWwindow* w);
+
 void on_key(GLFWwindow* w, int key, int, int action, int mods) {
   App& a = app_of(w);
   a.last_event = Clock::now();
@@ -142,6 +144,12 @@ void on_key(GLFWwindow* w, int key, int, int action, int mods) {
       case GLFW_KEY_SPACE: a.session.step(); break;
       case GLFW_KEY_R: a.session.running() ? a.session.pause() : a.session.run(); break;
       case GLFW_KEY_ESCAPE: a.view.paint_tool = false; break;
+      case GLFW_KEY_Q:
+        if (ctrl) {  // as the window's close button: confirmation when there is unsaved work
+          glfwSetWindowShouldClose(w, GLFW_TRUE);
+          on_close(w);
+        }
+        break;
       default: break;
     }
   } catch (const std::exception& e) {

@@ -170,6 +170,12 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
       if (b.direction == Brush::Direction::Stroke && !(norm2(dir) > 0)) throw LineError{"paint: the direction is zero"};
     }
     s.dab(c, dir);
+  } else if (cmd == "stroke") {
+    need_mesh();
+    arity(l, 1, 1, "stroke begin|end");
+    if (l.words[1] == "begin") s.begin_stroke();
+    else if (l.words[1] == "end") s.end_stroke();
+    else throw LineError{"usage: stroke begin|end"};
   } else if (cmd == "undo" || cmd == "redo") {
     arity(l, 0, 0, cmd.c_str());
     if (!(cmd == "undo" ? s.undo() : s.redo())) throw LineError{cmd + ": nothing to " + cmd};
@@ -276,6 +282,7 @@ const char* script_help() {
          "  paint X Y Z RADIUS SIZE [STRETCH DIRX DIRY DIRZ]\n"
          "                                         one dab: blend the metric towards SIZE\n"
          "                                         (SIZE x STRETCH along DIR) within RADIUS\n"
+         "  stroke begin | stroke end              dabs in between are one edit (one undo)\n"
          "  undo | redo                            metric edits\n"
          "  step | run [MAXPASSES] | reset         adaptation (one pass / until converged)\n"
          "  timeline I                             show pass I of the timeline (0: initial)\n"

@@ -5,7 +5,7 @@
 //   metric curvature HAUSD | metric sol FILE
 //   hgrad R | hmin A | hmax B | max-aniso K
 //   brush set|smooth|erase [STRENGTH] | brush direction stroke|max-curvature|min-curvature
-//   paint X Y Z RADIUS SIZE [STRETCH DIRX DIRY DIRZ]
+//   paint X Y Z RADIUS SIZE [STRETCH DIRX DIRY DIRZ] | stroke begin|end
 //   undo | redo
 //   step | run [MAXPASSES] | reset | timeline I
 //   select-bin length|quality I | clear-selection

@@ -260,6 +260,11 @@ const std::vector<SymTensor3>& EditorSession::curvature_cached() {
 }
 
 void EditorSession::begin_stroke() {
+  open_stroke();
+  log("stroke begin");
+}
+
+void EditorSession::open_stroke() {
   if (!input_) throw Error("no mesh: open one first");
   if (stroke_) end_stroke();
   stroke_.emplace();
@@ -272,7 +277,7 @@ void EditorSession::begin_stroke() {
 void EditorSession::dab(const Vec3& centre, const Vec3& direction) {
   if (!input_) throw Error("no mesh: open one first");
   const bool own = !stroke_;
-  if (own) begin_stroke();
+  if (own) open_stroke();
   const Brush& b = brush_;
   if (!(b.radius > 0) || !(b.size > 0) || !(b.stretch >= 1) || !(b.strength > 0))
     throw Error("brush: need radius > 0, size > 0, stretch >= 1 and strength > 0");
@@ -362,10 +367,16 @@ void EditorSession::dab(const Vec3& centre, const Vec3& direction) {
   if (b.stretch > 1 && norm2(direction) > 0)
     l += " " + num(b.stretch) + " " + num(direction.x) + " " + num(direction.y) + " " + num(direction.z);
   log(l);
-  if (own) end_stroke();
+  if (own) close_stroke();
 }
 
 void EditorSession::end_stroke() {
+  if (!stroke_) return;
+  close_stroke();
+  log("stroke end");
+}
+
+void EditorSession::close_stroke() {
   if (!stroke_) return;
   if (!stroke_->vertices.empty()) {
     undo_.push_back(std::move(*stroke_));

@@ -153,6 +153,8 @@ class EditorSession {
 
  private:
   void apply_metric(MetricField m, const MetricSettings& s, bool reset_adaptation);
+  void open_stroke();   // begin_stroke / end_stroke without the journal lines
+  void close_stroke();
   void changed();
   MetricField compute_metric(const MetricSettings& s) const;
   const std::vector<Vec3>& vertex_normals_cached();
