@@ -64,7 +64,7 @@ struct OperatorOptions {
   double max_move = 0.5;
   // Displacements shorter than this share of the shortest incident edge are
   // not worth a move (the vertex is at its optimum).
-  double min_move = 0.01;
+  double min_move = 0.03;
   int move_backtracks = 8;
   // Move: accept when the worst new quality is at least this factor times
   // the worst old one (1: the report's "greater than"; below 1: Remark 4's
