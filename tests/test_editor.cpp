@@ -283,6 +283,19 @@ TEST_CASE("editor: adaptation pass by pass, timeline, cancel and reset") {
   s.wait();
   CHECK(s.timeline().size() == 3);
   CHECK(s.display().snapshot == s.timeline().back());
+  // A metric edit during a run drops the adaptation at once (its worker ends
+  // its pass on the side); the next step starts from T_0 with the new metric.
+  s.run();
+  MetricSettings iso = s.settings();
+  iso.source = MetricSettings::Source::Iso;
+  iso.iso = 0.25;
+  s.set_settings(iso);
+  CHECK(!s.running());
+  CHECK(s.timeline().size() == 1);
+  s.step();
+  s.wait();
+  REQUIRE(s.timeline().size() == 2);
+  CHECK(s.timeline()[1]->metric[0].m == isotropic_metric(0.25).m);
 }
 
 TEST_CASE("editor: a histogram bin selects its elements; the worst one is the farthest from the unit") {
@@ -398,6 +411,33 @@ TEST_CASE("editor: scripted session of every panel, in the window under xvfb-run
   INFO(slurp(dir / "stderr.txt"));
   REQUIRE(code == 0);
   check_panel_screenshots(dir);
+}
+
+TEST_CASE("shot --bezier: the G1 surface, its control net, the deviation colormap") {
+  const auto dir = test::temp_dir("shot_bezier");
+  const std::string base = "shot " + demo_mesh() + " --size 640x400 --no-legend ";
+  REQUIRE(run_binary("env -u DISPLAY", base + "-o " + (dir / "mesh.png").string(), dir) == 0);
+  REQUIRE(run_binary("env -u DISPLAY", base + "--bezier 6 -o " + (dir / "g1.png").string(), dir) == 0);
+  REQUIRE(run_binary("env -u DISPLAY", base + "--bezier 6 --control-net -o " + (dir / "net.png").string(), dir) == 0);
+  const render::Image mesh = render::read_png((dir / "mesh.png").string()), g1 = render::read_png((dir / "g1.png").string()),
+                      net = render::read_png((dir / "net.png").string());
+  // The surface is rounder than the polyhedron: its silhouette differs; the
+  // net adds green lines (0.10, 0.45, 0.15).
+  CHECK(diff(mesh, g1, 0).count > 500);
+  auto green = [](const render::Image& img) {
+    int n = 0;
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        const auto* p = img.pixel(x, y);
+        n += p[1] > p[0] + 40 && p[1] > p[2] + 40;
+      }
+    return n;
+  };
+  CHECK(green(g1) < 50);
+  CHECK(green(net) > 2000);
+  CHECK(run_binary("", base + "--color deviation -o " + (dir / "x.png").string(), dir) == 2);
+  CHECK(slurp(dir / "stderr.txt").find("--color deviation needs --bezier K") != std::string::npos);
+  CHECK(run_binary("", base + "--control-net -o " + (dir / "x.png").string(), dir) == 2);
 }
 
 TEST_CASE("editor: command lines") {

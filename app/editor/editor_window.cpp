@@ -212,6 +212,22 @@ void write_autosave(const EditorSession& s, std::size_t* saved_lines) {
   *saved_lines = s.journal().size();
 }
 
+// Recent files, kept next to the autosave (one per line).
+std::string recent_path() { return (std::filesystem::path(autosave_path()).parent_path() / "recent.txt").string(); }
+
+void load_recent(PanelState& p) {
+  std::ifstream in(recent_path());
+  for (std::string line; std::getline(in, line) && p.recent.size() < 8;)
+    if (!line.empty()) p.recent.push_back(line);
+}
+
+void save_recent(const PanelState& p) {
+  std::error_code ec;
+  std::filesystem::create_directories(std::filesystem::path(recent_path()).parent_path(), ec);
+  std::ofstream out(recent_path());
+  for (const auto& r : p.recent) out << r << "\n";
+}
+
 struct GlfwLib {
   GlfwLib() {
     if (!glfwInit()) {
@@ -273,6 +289,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     }
   } backends;
 
+  if (script.empty()) load_recent(a.panels);
   if (!mesh.empty()) {
     a.session.open(mesh, sol);
     a.panels.open_path = mesh;
@@ -421,7 +438,10 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     const auto cap = running ? std::max(budget, std::chrono::duration<double>(1.0 / 15.0)) : budget;
     std::this_thread::sleep_until(frame_start + std::chrono::duration_cast<Clock::duration>(cap));
   }
-  if (script.empty()) write_autosave(a.session, &autosaved);
+  if (script.empty()) {
+    write_autosave(a.session, &autosaved);
+    save_recent(a.panels);
+  }
   a.session.pause();
   a.session.wait();
   return exit_code;

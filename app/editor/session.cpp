@@ -65,8 +65,8 @@ std::string source_line(const MetricSettings& s) {
 EditorSession::EditorSession() = default;
 
 EditorSession::~EditorSession() {
-  if (adaptation_) adaptation_->request_stop();
-  adaptation_.reset();
+  retire_adaptation();
+  wait_retired();
   if (geometry_.valid()) geometry_.wait();  // it reads input_
 }
 
@@ -102,9 +102,9 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
   }
   detect_features(*mesh);
 
-  if (adaptation_) adaptation_->request_stop();
-  adaptation_.reset();
-  if (geometry_.valid()) geometry_.wait();  // the old one reads the old mesh
+  retire_adaptation();
+  wait_retired();  // their workers read the old mesh
+  if (geometry_.valid()) geometry_.wait();  // so does the old geometry's construction
   std::swap(input_, mesh);
   geometry_ = start_geometry(*input_, adapt_settings_);
   vertex_origin_ = report.vertex_origin;
@@ -207,11 +207,7 @@ void EditorSession::apply_metric(MetricField m, const MetricSettings& s, bool re
   settings_ = s;
   predicted_vertices_ = predicted_vertex_count(metric_complexity(*input_, metric_));
   t0_snapshot_ = initial_snapshot();
-  if (reset_adaptation && adaptation_) {
-    adaptation_->request_stop();
-    adaptation_.reset();
-    scrub_ = -1;
-  }
+  if (reset_adaptation) retire_adaptation();
   selection_ = {};
   changed();
 }
@@ -344,11 +340,7 @@ void EditorSession::dab(const Vec3& centre, const Vec3& direction) {
     metric_[v] = M;
   }
   if (!updates.empty()) {
-    if (adaptation_) {
-      adaptation_->request_stop();
-      adaptation_.reset();
-      scrub_ = -1;
-    }
+    retire_adaptation();
     predicted_vertices_ = predicted_vertex_count(metric_complexity(mesh, metric_));
     t0_snapshot_ = initial_snapshot();
     changed();
@@ -424,6 +416,7 @@ void EditorSession::run(int max_passes) {
   if (stroke_) end_stroke();
   if (running()) return;
   poll();
+  wait_retired();  // they share the geometry (one search at a time)
   if (!adaptation_) adaptation_ = std::make_unique<Adaptation>(*input_, metric_, adapt_settings_, t0_snapshot_, geometry_);
   const std::size_t n = adaptation_->size();
   const std::size_t from = scrub_ >= 0 && static_cast<std::size_t>(scrub_) < n ? static_cast<std::size_t>(scrub_) : n - 1;
@@ -445,7 +438,20 @@ void EditorSession::cancel() {
   poll();
 }
 
+void EditorSession::retire_adaptation() {
+  if (!adaptation_) return;
+  adaptation_->request_stop();
+  retired_.push_back(std::move(adaptation_));
+  cancel_pending_ = false;
+  scrub_ = -1;
+  poll();
+}
+
+void EditorSession::wait_retired() { retired_.clear(); }  // each destructor joins its worker
+
 void EditorSession::poll() {
+  // Retired adaptations go once their worker has finished its pass.
+  std::erase_if(retired_, [](const std::unique_ptr<Adaptation>& a) { return !a->running(); });
   if (cancel_pending_ && adaptation_ && !adaptation_->running()) {
     adaptation_->wait();
     adaptation_->truncate(run_start_);
@@ -456,9 +462,7 @@ void EditorSession::poll() {
 }
 
 void EditorSession::reset() {
-  if (adaptation_) adaptation_->request_stop();
-  adaptation_.reset();
-  scrub_ = -1;
+  retire_adaptation();
   selection_ = {};
   log("reset");
   changed();
@@ -466,6 +470,7 @@ void EditorSession::reset() {
 
 void EditorSession::wait() {
   if (adaptation_) adaptation_->wait();
+  wait_retired();
   poll();
 }
 

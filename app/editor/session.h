@@ -153,6 +153,10 @@ class EditorSession {
 
  private:
   void apply_metric(MetricField m, const MetricSettings& s, bool reset_adaptation);
+  // A metric edit, a reset or a new mesh drops the adaptation without waiting
+  // for the pass in progress: it is stopped and kept until its worker ends.
+  void retire_adaptation();
+  void wait_retired();
   void open_stroke();   // begin_stroke / end_stroke without the journal lines
   void close_stroke();
   void changed();
@@ -174,6 +178,7 @@ class EditorSession {
   AdaptSettings adapt_settings_;
   std::unique_ptr<Adaptation> adaptation_;
   SharedGeometry geometry_;  // T_G over input_, built in the background at open()
+  std::vector<std::unique_ptr<Adaptation>> retired_;
   std::shared_ptr<const Snapshot> t0_snapshot_;
   int scrub_ = -1;
   std::size_t run_start_ = 0;  // timeline size when the current run started
