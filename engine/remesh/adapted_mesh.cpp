@@ -156,16 +156,22 @@ int AdaptedMesh::count_inverted() {
     std::array<Vec3, 3> p;
     for (int k = 0; k < 3; ++k) p[k] = mesh_.position(mesh_.vertex(t, k));
     const Vec3 g = (p[0] + p[1] + p[2]) / 3.0;
-    // Near each corner (inside the triangle, so on its side of a ridge), from
-    // the vertex's own hint (so on its sheet of a thin part): a vote of the
-    // surface normal there.
-    int against = 0;
-    for (int k = 0; k < 3; ++k) {
-      const Hint h = hint_g_[mesh_.vertex(t, k)];
-      const Projection pr = geometry_.project(0.9 * p[k] + 0.1 * g, std::span<const Hint>(&h, 1), Constraint::Free);
+    // Votes of the surface normal near the free corners (inside the
+    // triangle, from the vertex's own hint, so on its sheet of a thin
+    // part); at curve and fixed corners the surface has two sides, so a
+    // triangle with no free corner votes once, at its centroid.
+    int votes = 0, against = 0;
+    auto vote = [&](const Vec3& x, Hint h) {
+      const Projection pr = geometry_.project(x, std::span<const Hint>(&h, 1), Constraint::Free);
+      ++votes;
       if (!(dot(nt, pr.normal) > 0)) ++against;
+    };
+    for (int k = 0; k < 3; ++k) {
+      const Vertex v = mesh_.vertex(t, k);
+      if (kind(v) == VertexKind::Free) vote(0.9 * p[k] + 0.1 * g, hint_g_[v]);
     }
-    if (against >= 2) ++n;
+    if (votes == 0) vote(g, hint_g_[mesh_.vertex(t, 0)]);
+    if (2 * against > votes) ++n;
   }
   return n;
 }

@@ -88,9 +88,10 @@ class AdaptedMesh {
   double quality(Triangle t) const;
   LengthFormula length_formula() const { return length_; }
 
-  // Triangles of T_1 whose normal points against the surface normal near at
-  // least two of their corners (points 1/10 of the way to the centroid,
-  // located on T_G from the vertex hints). O(n); for tests and reports.
+  // Triangles of T_1 whose normal points against the surface normal near
+  // most of their free corners (points 1/10 of the way to the centroid,
+  // located on T_G from the vertex hints), or at the centroid for a triangle
+  // without a free corner. O(n); for tests and reports.
   int count_inverted();
 
  private:
