@@ -48,6 +48,8 @@ std::pair<int, int> parse_size(const std::string& t) {
 
 }  // namespace
 
+const char* editor_help() { return kEditorHelp; }
+
 std::optional<int> editor_main(const std::vector<std::string>& args, const std::vector<std::string>& command_names) {
   const bool script_mode = !args.empty() && args[0] == "--script";
   if (!args.empty() && args[0] == "--help-script") {
@@ -63,7 +65,17 @@ std::optional<int> editor_main(const std::vector<std::string>& args, const std::
     if (args[0].rfind("-", 0) == 0) return std::nullopt;
     if (std::find(command_names.begin(), command_names.end(), args[0]) != command_names.end()) return std::nullopt;
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(args[0], ec)) return std::nullopt;
+    if (!std::filesystem::is_regular_file(args[0], ec)) {
+      // A mesh file name that does not exist: say so (not "unknown command").
+      std::string ext = std::filesystem::path(args[0]).extension().string();
+      std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+      for (const char* e : {".mesh", ".meshb", ".off", ".obj", ".ply", ".stl", ".gltf", ".glb", ".vtk"})
+        if (ext == e) {
+          std::cerr << "anisurf: " << args[0] << ": no such file\n";
+          return 1;
+        }
+      return std::nullopt;
+    }
   }
   try {
     cli::ArgParser p(args);

@@ -12,6 +12,9 @@ namespace anisurf::editor {
 // subcommand line for the regular command line. Returns the exit code.
 std::optional<int> editor_main(const std::vector<std::string>& args, const std::vector<std::string>& command_names);
 
+// The usage text of the editor's command lines.
+const char* editor_help();
+
 struct ScriptOptions {
   std::string script;
   bool headless = true;

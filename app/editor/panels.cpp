@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "editor/editor_app.h"
 #include "editor/script.h"
+#include "render/pick.h"
 #include "metric/length.h"
 #include "metric/quality.h"
 #include "remesh/operators.h"
@@ -505,7 +506,22 @@ void draw_panels(EditorSession& session, ViewState& view, PanelState& panels, re
     }
     ImGui::End();
   }
-  hover_tooltip(session, nullptr, panels);
+  // The brush's footprint under the mouse (a circle of its radius, in the
+  // view plane) while the paint tool is on.
+  if (view.paint_tool && panels.hover && session.has_mesh()) {
+    const Vec3& c = panels.hover->point;
+    const glm::vec3 cw(static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z));
+    const glm::vec3 ew = cw + scene.camera.right() * static_cast<float>(session.brush().radius);
+    const auto pc = render::project_to_pixel(scene.camera, cw, width, height);
+    const auto pe = render::project_to_pixel(scene.camera, ew, width, height);
+    if (pc && pe) {
+      const float r = glm::length(*pe - *pc);
+      ImDrawList* dl = ImGui::GetForegroundDrawList();
+      dl->AddCircle(ImVec2(pc->x, pc->y), r, IM_COL32(255, 255, 255, 220), 48, 3.0f);
+      dl->AddCircle(ImVec2(pc->x, pc->y), r, IM_COL32(20, 20, 20, 255), 48, 1.5f);
+    }
+  }
+  if (!view.paint_tool) hover_tooltip(session, nullptr, panels);
   quit_dialog(session, panels);
 }
 

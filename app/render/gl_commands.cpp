@@ -9,6 +9,8 @@
 #include <optional>
 
 #include "core/error.h"
+#include "editor/editor_app.h"
+#include "editor/script.h"
 #include "geometry/features.h"
 #include "geometry/normals.h"
 #include "io/mesh_io.h"
@@ -443,6 +445,13 @@ std::vector<cli::Command> gl_commands() {
                       "\nexample:\n"
                       "  anisurf view falcon.mesh falcon.sol --color aniso --glyphs\n",
                   run_view});
+  list.push_back({"editor", "the editor window or a script (also: anisurf [MESH [SOL]], anisurf --script FILE)",
+                  std::string(editor::editor_help()) + "\n" + editor::script_help(),
+                  [](const std::vector<std::string>& args) {
+                    std::vector<std::string> names;  // after `editor` every word is the editor's
+                    if (auto code = editor::editor_main(args, names)) return *code;
+                    throw UsageError{"expected [MESH [SOL]] with an existing MESH, or --script FILE"};
+                  }});
   return list;
 }
 
