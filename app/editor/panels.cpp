@@ -257,7 +257,8 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
   int shown = s.scrubbed() >= 0 ? s.scrubbed() : n - 1;
   if (n > 1) {
     ImGui::SetNextItemWidth(260);
-    if (ImGui::SliderInt("timeline", &shown, 0, n - 1, tl[static_cast<std::size_t>(shown)]->label.c_str()))
+    const std::string fmt_label = "%d: " + tl[static_cast<std::size_t>(shown)]->label;  // labels hold no '%'
+    if (ImGui::SliderInt("timeline", &shown, 0, n - 1, fmt_label.c_str()))
       s.scrub(shown);
     // In-band share over the passes.
     std::vector<float> band;
@@ -269,6 +270,36 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
       ImGui::PlotLines("edges in\nband", band.data(), static_cast<int>(band.size()), 0, overlay, 0.0f, 100.0f,
                        ImVec2(260, 45));
     }
+  }
+  // The passes side by side (click a row to show that pass).
+  if (n > 1 && ImGui::TreeNodeEx("passes", ImGuiTreeNodeFlags_DefaultOpen)) {
+    const ImGuiTableFlags tf = ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollY |
+                               ImGuiTableFlags_SizingFixedFit;
+    if (ImGui::BeginTable("##passes", 6, tf, ImVec2(340, 160))) {
+      ImGui::TableSetupScrollFreeze(0, 1);
+      for (const char* h : {"#", "pass", "changes", "V", "in band", "q min"}) ImGui::TableSetupColumn(h);
+      ImGui::TableHeadersRow();
+      for (int i = 0; i < n; ++i) {
+        const auto& sn = tl[static_cast<std::size_t>(i)];
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        char id[16];
+        std::snprintf(id, sizeof id, "%d", i);
+        if (ImGui::Selectable(id, i == shown, ImGuiSelectableFlags_SpanAllColumns)) s.scrub(i);
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(sn->label.c_str());
+        ImGui::TableNextColumn();
+        ImGui::Text("%d", sn->has_report ? sn->report.changes() : 0);
+        ImGui::TableNextColumn();
+        ImGui::Text("%d", sn->mesh.n_vertices());
+        ImGui::TableNextColumn();
+        if (sn->has_report) ImGui::Text("%.1f%%", 100 * sn->report.in_band_share);
+        ImGui::TableNextColumn();
+        if (sn->has_report) ImGui::Text("%.3f", sn->report.q_min);
+      }
+      ImGui::EndTable();
+    }
+    ImGui::TreePop();
   }
   ImGui::Checkbox("mark the vertices the pass touched", &v.show_touched);
   const auto& snap = tl[static_cast<std::size_t>(std::clamp(shown, 0, n - 1))];
