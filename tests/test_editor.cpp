@@ -345,6 +345,8 @@ TEST_CASE("editor: script errors name the file and the line") {
   CHECK_MESSAGE(error_of("select-bin angle 2").find(at + "usage: select-bin length|quality I") != std::string::npos, error_of("select-bin angle 2"));
   CHECK_MESSAGE(error_of("color purple").find(at + "color: expects") != std::string::npos, error_of("color purple"));
   CHECK_MESSAGE(error_of("undo").find(at + "undo: nothing to undo") != std::string::npos, error_of("undo"));
+  CHECK_MESSAGE(error_of("lmin 2").find(at + "lmin: the edge length band needs 0 < lmin < lmax") != std::string::npos,
+                error_of("lmin 2"));
   CHECK_MESSAGE(error_of("frobnicate").find(at + "unknown command 'frobnicate'") != std::string::npos, error_of("frobnicate"));
   CHECK_MESSAGE(error_of("open /nonexistent/x.mesh").find(at + "open: ") != std::string::npos, error_of("open /nonexistent/x.mesh"));
   // A failing metric leaves the session as it was.

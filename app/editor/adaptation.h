@@ -22,7 +22,13 @@
 namespace anisurf::editor {
 
 struct AdaptSettings {
-  remesh::RemeshOptions remesh;      // lmin / lmax, passes per round ...
+  // lmin / lmax, passes per round ...; lmin 0.72 as `anisurf adapt` (the
+  // edges end in [1/sqrt2, sqrt2]; the report's 0.6 leaves some below).
+  remesh::RemeshOptions remesh = [] {
+    remesh::RemeshOptions o;
+    o.op.lmin = 0.72;
+    return o;
+  }();
   bool g1_surface = true;            // project on the G1 Bezier surface (else the polyhedral one)
   double converged_share = 0.005;    // a round splitting + collapsing <= this share of the vertices ends the loop
 };

@@ -250,6 +250,13 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(0.1f, 0.5f, 0.1f, 1), "running...");
   }
+  {
+    float band[2] = {static_cast<float>(s.adapt_settings().remesh.op.lmin),
+                     static_cast<float>(s.adapt_settings().remesh.op.lmax)};
+    ImGui::SetNextItemWidth(200);
+    ImGui::InputFloat2("lmin, lmax", band, "%.3g");
+    if (ImGui::IsItemDeactivatedAfterEdit()) act(p, "band set", [&] { s.set_band(band[0], band[1]); });
+  }
   if (const std::string err = s.adaptation_error(); !err.empty())
     ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1), "error: %s", err.c_str());
   const auto tl = s.timeline();

@@ -132,6 +132,11 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
     if (cmd == "hmax") m.hmax = x > 0 ? x : INFINITY;
     if (cmd == "max-aniso") m.max_aniso = x >= 1 ? x : INFINITY;
     s.set_settings(m);
+  } else if (cmd == "lmin" || cmd == "lmax") {
+    arity(l, 1, 1, (cmd + " L").c_str());
+    const double x = number(l, 1, "L");
+    const auto& op = s.adapt_settings().remesh.op;
+    s.set_band(cmd == "lmin" ? x : op.lmin, cmd == "lmax" ? x : op.lmax);
   } else if (cmd == "brush") {
     if (l.words.size() >= 2 && l.words[1] == "direction") {
       arity(l, 2, 2, "brush direction stroke|max-curvature|min-curvature");
@@ -285,6 +290,7 @@ const char* script_help() {
          "  stroke begin | stroke end              dabs in between are one edit (one undo)\n"
          "  undo | redo                            metric edits\n"
          "  step | run [MAXPASSES] | reset         adaptation (one pass / until converged)\n"
+         "  lmin L | lmax L                        edge length band (default 0.72, 1.4)\n"
          "  timeline I                             show pass I of the timeline (0: initial)\n"
          "  select-bin length|quality I            highlight a histogram bin, frame its worst\n"
          "  clear-selection\n"

@@ -7,7 +7,7 @@
 //   brush set|smooth|erase [STRENGTH] | brush direction stroke|max-curvature|min-curvature
 //   paint X Y Z RADIUS SIZE [STRETCH DIRX DIRY DIRZ] | stroke begin|end
 //   undo | redo
-//   step | run [MAXPASSES] | reset | timeline I
+//   step | run [MAXPASSES] | reset | timeline I | lmin L | lmax L
 //   select-bin length|quality I | clear-selection
 //   view NAME | color MODE | glyphs on|off | wire on|off
 //   bezier K|off | control-net on|off

@@ -427,6 +427,18 @@ void EditorSession::run(int max_passes) {
   changed();
 }
 
+void EditorSession::set_band(double lmin, double lmax) {
+  if (!(lmin > 0) || !(lmax > lmin)) throw Error("the edge length band needs 0 < lmin < lmax");
+  auto& op = adapt_settings_.remesh.op;
+  if (op.lmin == lmin && op.lmax == lmax) return;
+  if (op.lmin != lmin) log("lmin " + num(lmin));
+  if (op.lmax != lmax) log("lmax " + num(lmax));
+  op.lmin = lmin;
+  op.lmax = lmax;
+  retire_adaptation();
+  changed();
+}
+
 void EditorSession::pause() {
   if (adaptation_) adaptation_->request_stop();
 }

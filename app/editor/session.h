@@ -116,7 +116,10 @@ class EditorSession {
   bool redo();
 
   // --- adaptation -----------------------------------------------------------
-  AdaptSettings& adapt_settings() { return adapt_settings_; }
+  const AdaptSettings& adapt_settings() const { return adapt_settings_; }
+  // The edge length band of the next adaptation (0 < lmin < lmax); drops
+  // the current one. Throws Error on a bad band.
+  void set_band(double lmin, double lmax);
   // One pass / passes until converged (at most max_passes, 0: no limit), in
   // the worker thread from the displayed snapshot (a scrubbed timeline is cut
   // after it). wait(): block until the worker is idle.
