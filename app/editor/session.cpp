@@ -131,11 +131,19 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
     }
   } else {
     if (s.source == MetricSettings::Source::Sol) s.source = MetricSettings::Source::Iso;
-    // A default iso size from the mesh: its mean edge length.
+    // A default iso size from the mesh (1/40 of its diagonal); the settings
+    // of the previous mesh may not suit this one (an expression undefined
+    // here, bounds): then the iso size without bounds.
     const BBox b = input_->bbox();
     const double diag = norm(b.hi - b.lo);
     if (s.source == MetricSettings::Source::Iso) s.iso = std::max(diag / 40.0, 1e-9);
-    m = compute_metric(s);
+    try {
+      m = compute_metric(s);
+    } catch (const std::exception&) {
+      s = MetricSettings{};
+      s.iso = std::max(diag / 40.0, 1e-9);
+      m = compute_metric(s);
+    }
   }
   base_metric_ = m;
   metric_ = std::move(m);
