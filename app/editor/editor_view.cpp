@@ -94,6 +94,11 @@ void EditorView::update(EditorSession& session, ViewState& view, render::Scene& 
   // worker and to drawing).
   const auto now = std::chrono::steady_clock::now();
   const bool throttled = session.running() && shown_ && now - last_rebuild_ < std::chrono::milliseconds(400);
+  if (session.opened() != opened_seen_) {  // a new mesh: the iso view (front for a planar one)
+    opened_seen_ = session.opened();
+    if (!view.view_request)
+      view.view_request = session.input().dimension() == 2 ? render::NamedView::Front : render::NamedView::Iso;
+  }
   if (d.snapshot != shown_ && !throttled) {
     last_rebuild_ = now;
     shown_ = d.snapshot;

@@ -45,6 +45,7 @@ class EditorView {
   const Snapshot* bezier_of_ = nullptr;
   std::string color_;
   double build_seconds_ = 0;
+  int opened_seen_ = 0;         // session.opened() last seen (a new mesh resets the view)
   int kept_for_ = -1;           // session.opened() the ranges belong to
   bool kept_initial_ = false;   // the last structure showed the initial state
   MetricSettings kept_settings_;  // and was made with these settings

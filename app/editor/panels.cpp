@@ -455,11 +455,13 @@ void hover_tooltip(EditorSession& s, EditorView* view, PanelState& p) {
   };
   ImGui::Text("triangle %d  ref %d  quality %.3f", h.triangle + 1, m.triangle_ref(T),
               triangle_quality(pos, M, LengthFormula::LinearMetric));
-  ImGui::Text("edge lengths in the metric:");
+  ImGui::Text("triangle tags: %s", tags(m.triangle_tags(T)).c_str());
+  ImGui::Text("edges (length in the metric, tags):");
   for (int k = 0; k < 3; ++k) {
     const int a = (k + 1) % 3, b = (k + 2) % 3;
-    ImGui::SameLine();
-    ImGui::Text("%.3f", edge_length(M[a], M[b], pos[b] - pos[a], LengthFormula::LinearMetric));
+    ImGui::Text("  %d-%d  %.3f  %s", m.vertex(T, a).idx + 1, m.vertex(T, b).idx + 1,
+                edge_length(M[a], M[b], pos[b] - pos[a], LengthFormula::LinearMetric),
+                tags(m.edge_tags(SurfaceMesh::corner(T, k))).c_str());
   }
   const Vertex V(h.vertex);
   const SizesDirections sd = sizes_and_directions(d.snapshot->metric[V.idx]);
