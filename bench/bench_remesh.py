@@ -76,7 +76,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--anisurf", default=os.path.join(here, "..", "build", "app", "anisurf"))
     ap.add_argument("--shared", default=os.path.join(here, "..", "..", "shared"))
-    ap.add_argument("--out", default="/tmp/anisurf_bench_remesh")
+    ap.add_argument("--out", default=os.path.join(os.environ.get("TMPDIR", "/tmp"), "bench_remesh_out"))
     ap.add_argument("--large", action="store_true")
     ap.add_argument("--cases", default="")
     ap.add_argument("--json", default="", help="also write the rows as JSON to this file")

@@ -1,5 +1,5 @@
 // `anisurf quality` and `anisurf metric` against closed forms and against the
-// independent evaluator /work/shared/bench/eval.py.
+// independent evaluator ../shared/bench/eval.py.
 #include <doctest/doctest.h>
 
 #include <nlohmann/json.hpp>

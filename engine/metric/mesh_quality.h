@@ -1,7 +1,7 @@
 // Measuring a mesh against a metric field: edge lengths in the metric (eq. 6
 // or 7), their share in the unit band [1/sqrt2, sqrt2], a histogram, the
 // quality c_K of eq. 17 and the mean ratio, and the vertex count the metric
-// predicts. The same measures as /work/shared/bench/eval.py.
+// predicts. The same measures as ../shared/bench/eval.py.
 #pragma once
 #include <array>
 #include <vector>
