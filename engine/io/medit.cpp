@@ -115,39 +115,6 @@ const SectionInfo* section_by_code(long long code) {
 
 // --- number parsing -----------------------------------------------------------
 
-// Parses a whole token as a double (also "1.0D+00" and values out of the
-// normal range); false if it is not a number.
-bool parse_real(std::string_view t, double& v) {
-  if (t.empty()) return false;
-  const char* b = t.data();
-  const char* e = b + t.size();
-  if (*b == '+') ++b;
-  auto r = std::from_chars(b, e, v);
-  if (r.ec == std::errc() && r.ptr == e) return true;
-  std::string s(t);
-  for (char& c : s)
-    if (c == 'd' || c == 'D') c = 'e';
-  char* end = nullptr;
-  v = std::strtod(s.c_str(), &end);
-  return !s.empty() && end == s.c_str() + s.size();
-}
-
-bool parse_integer(std::string_view t, long long& v) {
-  if (t.empty()) return false;
-  const char* b = t.data();
-  const char* e = b + t.size();
-  if (*b == '+') ++b;
-  auto r = std::from_chars(b, e, v);
-  return r.ec == std::errc() && r.ptr == e;
-}
-
-std::string quoted(std::string_view t) {
-  std::string s(1, '\'');
-  s.append(t.substr(0, 40));
-  s.push_back('\'');
-  return s;
-}
-
 // --- collector shared by both readers -------------------------------------------
 
 enum class Target { Vertex, Edge, Triangle, Normal, Tangent, Count_ };

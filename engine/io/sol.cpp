@@ -77,37 +77,6 @@ std::string count_mismatch(long long count, int n_vertices) {
          " vertices (expected one value per vertex)";
 }
 
-bool parse_real(std::string_view t, double& v) {
-  if (t.empty()) return false;
-  const char* b = t.data();
-  const char* e = b + t.size();
-  if (*b == '+') ++b;
-  auto r = std::from_chars(b, e, v);
-  if (r.ec == std::errc() && r.ptr == e) return true;
-  std::string s(t);
-  for (char& c : s)
-    if (c == 'd' || c == 'D') c = 'e';
-  char* end = nullptr;
-  v = std::strtod(s.c_str(), &end);
-  return !s.empty() && end == s.c_str() + s.size();
-}
-
-bool parse_integer(std::string_view t, long long& v) {
-  if (t.empty()) return false;
-  const char* b = t.data();
-  const char* e = b + t.size();
-  if (*b == '+') ++b;
-  auto r = std::from_chars(b, e, v);
-  return r.ec == std::errc() && r.ptr == e;
-}
-
-std::string quoted(std::string_view t) {
-  std::string s(1, '\'');
-  s.append(t.substr(0, 40));
-  s.push_back('\'');
-  return s;
-}
-
 bool iequals(std::string_view a, std::string_view b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i)

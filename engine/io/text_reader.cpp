@@ -25,6 +25,39 @@ std::string format_double(double v) {
   return std::string(buf, r.ptr);
 }
 
+bool parse_real(std::string_view t, double& v) {
+  if (t.empty()) return false;
+  const char* b = t.data();
+  const char* e = b + t.size();
+  if (*b == '+') ++b;
+  auto r = std::from_chars(b, e, v);
+  if (r.ec == std::errc() && r.ptr == e) return true;
+  // from_chars refuses denormals and overflow, and Fortran exponents (1.0D+00,
+  // found in some Medit files): strtod reads them all.
+  std::string s(t);
+  for (char& c : s)
+    if (c == 'd' || c == 'D') c = 'e';
+  char* end = nullptr;
+  v = std::strtod(s.c_str(), &end);
+  return end == s.c_str() + s.size();
+}
+
+bool parse_integer(std::string_view t, long long& v) {
+  if (t.empty()) return false;
+  const char* b = t.data();
+  const char* e = b + t.size();
+  if (*b == '+') ++b;
+  auto r = std::from_chars(b, e, v);
+  return r.ec == std::errc() && r.ptr == e;
+}
+
+std::string quoted(std::string_view t) {
+  std::string s(1, '\'');
+  s.append(t.substr(0, 40));
+  s.push_back('\'');
+  return s;
+}
+
 bool host_is_little_endian() {
   const std::uint16_t x = 1;
   return *reinterpret_cast<const std::uint8_t*>(&x) == 1;
@@ -97,24 +130,8 @@ bool TextReader::at_end() {
 double TextReader::read_double(const char* what) { return parse_double(token(what), what); }
 
 double TextReader::parse_double(std::string_view t, const char* what) const {
-  if (t.empty()) fail_expected(what, t);
-  const char* b = t.data();
-  const char* e = b + t.size();
-  if (*b == '+') ++b;
   double v = 0;
-  auto r = std::from_chars(b, e, v);
-  if (r.ec == std::errc::result_out_of_range) {
-    // from_chars refuses denormals / overflow; strtod gives the IEEE result.
-    v = std::strtod(std::string(t).c_str(), nullptr);
-  } else if (r.ec != std::errc() || r.ptr != e) {
-    // Fortran-style exponents (1.0D+00) appear in some Medit files.
-    std::string s(t);
-    for (char& c : s)
-      if (c == 'd' || c == 'D') c = 'e';
-    char* end = nullptr;
-    v = std::strtod(s.c_str(), &end);
-    if (s.empty() || end != s.c_str() + s.size()) fail_expected(what, t);
-  }
+  if (!parse_real(t, v)) fail_expected(what, t);
   return v;
 }
 
@@ -127,13 +144,8 @@ double TextReader::read_finite(const char* what) {
 long long TextReader::read_int(const char* what) { return parse_int(token(what), what); }
 
 long long TextReader::parse_int(std::string_view t, const char* what) const {
-  if (t.empty()) fail_expected(what, t);
-  const char* b = t.data();
-  const char* e = b + t.size();
-  if (*b == '+') ++b;
   long long v = 0;
-  auto r = std::from_chars(b, e, v);
-  if (r.ec != std::errc() || r.ptr != e) fail_expected(what, t);
+  if (!parse_integer(t, v)) fail_expected(what, t);
   return v;
 }
 

@@ -85,6 +85,14 @@ class ByteReader {
   std::size_t pos_ = 0;
 };
 
+// Parses a whole token as a number: false if it is not one. Doubles also accept
+// Fortran exponents (1.0D+00) and values outside the normal range (denormals,
+// overflow to infinity), as strtod reads them.
+bool parse_real(std::string_view token, double& value);
+bool parse_integer(std::string_view token, long long& value);
+// The token in quotes for messages, cut to 40 characters.
+std::string quoted(std::string_view token);
+
 // Reads a whole file into a string; throws IoError naming the path.
 std::string read_file_contents(const std::string& path);
 // Shortest decimal text that reads back to exactly the same double.
