@@ -3,13 +3,16 @@
 // fixed and feature vertices are respected, and whole runs reach the metric.
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <memory>
+#include <numbers>
 #include <random>
 
 #include "geometry/features.h"
 #include "io/mesh_io.h"
 #include "mesh/operators.h"
 #include "metric/metric_field.h"
+#include "metric/quality.h"
 #include "remesh/remesher.h"
 #include "test_util.h"
 
@@ -428,5 +431,85 @@ TEST_CASE("remesh: Remark 5 cache: the edges of the last 10 modifications are pr
     }
     // Older modifications have left the cache (it holds the last 10).
     for (Vertex w : one_ring(m, first)) CHECK(!r.in_cache(first, w, PassKind::Collapse));
+  }
+}
+
+// The bundled demo (scripts/make_demo.py): a 162-vertex icosphere under a
+// metric of sizes 0.015 across a wavy band and 0.1 along it. On its coarse
+// triangles the metric varies so much between the vertices that c_K with a
+// metric per edge reads 0 for well-shaped triangles (and well for needles).
+namespace {
+std::string demo_file(const char* name) { return std::string(ANISURF_TEST_DATA_DIR) + "/../../assets/" + name; }
+
+// Smallest angle cosine between a triangle's normal and the surface normals
+// at its free corners, over the mesh (1: every triangle along the surface).
+double worst_surface_cosine(const AdaptedMesh& a) {
+  const SurfaceMesh& m = a.mesh();
+  double worst = 1;
+  for (int t = 0; t < m.triangle_capacity(); ++t) {
+    if (m.is_deleted(Triangle(t))) continue;
+    const Vec3 n = normalized(m.triangle_normal(Triangle(t)));
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& s = a.surface_normal(m.vertex(Triangle(t), k));
+      if (norm2(s) > 0) worst = std::min(worst, dot(n, s));
+    }
+  }
+  return worst;
+}
+
+// Min over the triangles of c_K with the edges in the centroid metric,
+// computed here from metric/quality.h (independently of the operators).
+double min_centroid_quality(const AdaptedMesh& a) {
+  const SurfaceMesh& m = a.mesh();
+  double q = 1;
+  for (int t = 0; t < m.triangle_capacity(); ++t) {
+    if (m.is_deleted(Triangle(t))) continue;
+    std::array<Vec3, 3> p;
+    std::array<SymTensor3, 3> M;
+    for (int k = 0; k < 3; ++k) {
+      p[k] = m.position(m.vertex(Triangle(t), k));
+      M[k] = a.metric(m.vertex(Triangle(t), k));
+    }
+    q = std::min(q, triangle_quality_in(p, centroid_metric(M, MetricInterpolation::Linear)));
+  }
+  return q;
+}
+}  // namespace
+
+TEST_CASE("remesh: demo sphere, the initial swaps do not trade coarse triangles of c_K 0 (metric per edge) for needles") {
+  auto s = make_setup(demo_file("demo.mesh"), demo_file("demo.sol"), 0, true);
+  AdaptedMesh& a = *s->adapted;
+  // The situation of the bug: coarse input triangles whose per-edge c_K is 0
+  // while they are fine in one metric.
+  int zero = 0;
+  for (int t = 0; t < a.mesh().triangle_capacity(); ++t)
+    if (!a.mesh().is_deleted(Triangle(t)) && a.quality(Triangle(t)) < 1e-3 && a.quality_in_one_metric(Triangle(t)) > 0.2)
+      ++zero;
+  REQUIRE(zero > 10);
+  const double before = min_centroid_quality(a);
+  Remesher r(a);
+  r.step(PassKind::Swap);
+  check_state(a, "initial swaps");
+  // Each swap must improve its pair, so the mesh's worst triangle cannot get worse.
+  CHECK(min_centroid_quality(a) >= before);
+}
+
+TEST_CASE("remesh: demo sphere with its anisotropic band, every edge split to at most lmax (no needles left over)") {
+  for (const bool g1 : {true, false}) {
+    CAPTURE(g1);
+    auto s = make_setup(demo_file("demo.mesh"), demo_file("demo.sol"), 0, g1);
+    RemeshOptions o;
+    o.op.lmin = 0.72;  // anisurf adapt's default
+    Remesher r(*s->adapted, o);
+    const std::vector<PassReport> passes = run_checked(r, *s->adapted, o.max_iterations);
+    const PassReport end = r.measure();
+    // Before the fix about 1% of the edges stayed at lengths 2-11 between
+    // needles tilted up to 60 degrees off the sphere that no split could cut.
+    CHECK(end.length_max <= 2.0);
+    CHECK(end.histogram[kLengthBins.size() - 2] + end.histogram[kLengthBins.size() - 1] == 0);  // [2, 5) and beyond
+    CHECK(end.in_band_share > 0.98);
+    CHECK(end.q_min > 0.3);
+    // (Surface normals of the polyhedral T_G are its facets': some 35 degrees apart.)
+    CHECK(worst_surface_cosine(*s->adapted) > std::cos(45.0 * std::numbers::pi / 180.0));
   }
 }

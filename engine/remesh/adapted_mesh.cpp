@@ -147,6 +147,16 @@ double AdaptedMesh::quality(Triangle t) const {
   return quality({mesh_.position(a), mesh_.position(b), mesh_.position(c)}, {metric_[a], metric_[b], metric_[c]});
 }
 
+double AdaptedMesh::quality_in_one_metric(const std::array<Vec3, 3>& p, const std::array<SymTensor3, 3>& M) const {
+  return triangle_quality_in(p, centroid_metric(M, MetricInterpolation::Linear));
+}
+
+double AdaptedMesh::quality_in_one_metric(Triangle t) const {
+  const Vertex a = mesh_.vertex(t, 0), b = mesh_.vertex(t, 1), c = mesh_.vertex(t, 2);
+  return quality_in_one_metric({mesh_.position(a), mesh_.position(b), mesh_.position(c)},
+                               {metric_[a], metric_[b], metric_[c]});
+}
+
 int AdaptedMesh::count_inverted() {
   int n = 0;
   for (int i = 0; i < mesh_.triangle_capacity(); ++i) {

@@ -86,6 +86,16 @@ class AdaptedMesh {
   // Quality c_K (eq. 17) with edge lengths from the vertex metrics.
   double quality(const std::array<Vec3, 3>& p, const std::array<SymTensor3, 3>& M) const;
   double quality(Triangle t) const;
+  // c_K (eq. 17) with the three edges measured in one metric, the vertex
+  // metrics interpolated at the centroid: the lengths of a real triangle, so
+  // a shape measure even where the metric varies a lot between the vertices
+  // (a coarse triangle across a thin anisotropic band). There, lengths taken
+  // from different metrics per edge can break the triangle inequality (c_K 0
+  // for a well-shaped triangle) or satisfy it comfortably for three nearly
+  // collinear points (a good c_K for a needle); where the metric varies
+  // little both measures agree. The criterion of the swaps.
+  double quality_in_one_metric(const std::array<Vec3, 3>& p, const std::array<SymTensor3, 3>& M) const;
+  double quality_in_one_metric(Triangle t) const;
   LengthFormula length_formula() const { return length_; }
 
   // Triangles of T_1 whose normal points against the surface normal near

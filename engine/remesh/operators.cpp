@@ -393,8 +393,14 @@ SwapPlan can_swap(const AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     return plan;
   }
   const SymTensor3 &Ma = m.metric(a), &Mb = m.metric(b), &Md = m.metric(d), &Me = m.metric(e);
-  plan.quality_before = std::min(m.quality({pa, pb, pd}, {Ma, Mb, Md}), m.quality({pe, pd, pb}, {Me, Md, Mb}));
-  plan.quality_after = std::min(m.quality({pa, pb, pe}, {Ma, Mb, Me}), m.quality({pe, pd, pa}, {Me, Md, Ma}));
+  // Eq. 17 in one metric per triangle (AdaptedMesh::quality_in_one_metric):
+  // with per-edge metrics, the coarse triangles of a strongly varying metric
+  // read c_K = 0 and any swap "improved" them, into pairs of needles along
+  // long chords of the curved surface, which no split could refine later.
+  plan.quality_before =
+      std::min(m.quality_in_one_metric({pa, pb, pd}, {Ma, Mb, Md}), m.quality_in_one_metric({pe, pd, pb}, {Me, Md, Mb}));
+  plan.quality_after =
+      std::min(m.quality_in_one_metric({pa, pb, pe}, {Ma, Mb, Me}), m.quality_in_one_metric({pe, pd, pa}, {Me, Md, Ma}));
   if (!(plan.quality_after > o.swap_gain * plan.quality_before)) plan.why = Rejection::Quality;
   return plan;
 }

@@ -117,11 +117,12 @@ CollapsePlan can_remove_vertex(AdaptedMesh& m, Vertex v, const OperatorOptions& 
 // --- edge swap (section 5.4) --------------------------------------------------
 struct SwapPlan {
   Rejection why = Rejection::None;
-  double quality_before = 0, quality_after = 0;  // min c_K of the two triangles
+  double quality_before = 0, quality_after = 0;  // min c_K of the two triangles (in one metric each)
 };
 // Interior non-feature edges only; refused when a new triangle turns too far
 // from the old pair or the pair folds more than before, or when the worst
-// quality (eq. 17) does not improve.
+// quality (eq. 17, each triangle's edges in the metric at its centroid:
+// AdaptedMesh::quality_in_one_metric) does not improve.
 SwapPlan can_swap(const AdaptedMesh& m, Corner c, const OperatorOptions& o);
 // Pre: plan.why == None. Returns the corner of the new diagonal.
 Corner swap(AdaptedMesh& m, Corner c);
