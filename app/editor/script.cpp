@@ -206,12 +206,23 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
     s.scrub(static_cast<int>(number(l, 1, "I")));
   } else if (cmd == "select-bin") {
     need_mesh();
-    arity(l, 2, 2, "select-bin length|quality I");
+    arity(l, 2, 2, "select-bin length|quality I|worst");
     BinKind k;
-    if (!parse_bin_kind(l.words[1], &k)) throw LineError{"usage: select-bin length|quality I"};
-    const double i = number(l, 2, "I");
-    if (i != std::floor(i)) throw LineError{"select-bin: I must be a bin number"};
-    s.select_bin(k, static_cast<int>(i));
+    if (!parse_bin_kind(l.words[1], &k)) throw LineError{"usage: select-bin length|quality I|worst"};
+    if (l.words[2] == "worst") {
+      // The lowest non-empty quality bin; for lengths the outermost non-empty
+      // bin on the side farther from the band (longest first).
+      const int n = bin_count(k);
+      const bool quality = k == BinKind::Quality;
+      for (int j = 0; j < n; ++j) {
+        s.select_bin(k, quality ? j : n - 1 - j);
+        if (!s.selection().triangles.empty()) break;
+      }
+    } else {
+      const double i = number(l, 2, "I");
+      if (i != std::floor(i)) throw LineError{"select-bin: I must be a bin number or 'worst'"};
+      s.select_bin(k, static_cast<int>(i));
+    }
     if (s.selection().triangles.empty()) throw LineError{"select-bin: bin " + l.words[2] + " is empty"};
     v.frame_selection = true;
   } else if (cmd == "clear-selection") {
@@ -293,7 +304,8 @@ const char* script_help() {
          "  step | run [MAXPASSES] | reset         adaptation (one pass / until converged)\n"
          "  lmin L | lmax L                        edge length band (default 0.72, 1.4)\n"
          "  timeline I                             show pass I of the timeline (0: initial)\n"
-         "  select-bin length|quality I            highlight a histogram bin, frame its worst\n"
+         "  select-bin length|quality I|worst      highlight a histogram bin (worst: the lowest\n"
+         "                                         quality / longest length bin), frame its worst\n"
          "  clear-selection\n"
          "  view iso|front|back|top|bottom|left|right\n"
          "  color size|aniso|length|quality|ref|deviation|none\n"
