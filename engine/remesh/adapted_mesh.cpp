@@ -180,7 +180,28 @@ int AdaptedMesh::count_inverted() {
       const Vertex v = mesh_.vertex(t, k);
       if (kind(v) == VertexKind::Free) vote(0.9 * p[k] + 0.1 * g, hint_g_[v]);
     }
-    if (votes == 0) vote(g, hint_g_[mesh_.vertex(t, 0)]);
+    if (votes == 0) {
+      // A triangle spanning a thin part between feature curves (the tip of
+      // a wing or a tail: every corner on the curve where the two sheets
+      // meet) lies between the sheets, its centroid about as close to the
+      // sheet it faces as to the one behind it, so its closest point picks
+      // a sheet by chance. When that sheet is behind the triangle and
+      // faces away, the triangle is judged again from the centroid moved by
+      // that distance along its normal: by the sheet it faces, when there is
+      // one in front of it (a real inversion finds the same sheet again).
+      const Hint h0 = hint_g_[mesh_.vertex(t, 0)];
+      const Projection first = geometry_.project(g, std::span<const Hint>(&h0, 1), Constraint::Free);
+      const double d = norm(first.point - g);
+      const double area2 = norm(nt);
+      votes = 1;
+      against = dot(nt, first.normal) > 0 ? 0 : 1;
+      if (against && d > 0 && area2 > 0 && dot(first.point - g, nt) < 0) {
+        const Vec3 front = g + (d / area2) * nt;
+        const Hint h1 = first.location.hint();
+        const Projection second = geometry_.project(front, std::span<const Hint>(&h1, 1), Constraint::Free);
+        if (dot(second.point - g, nt) > 0 && dot(nt, second.normal) > 0) against = 0;
+      }
+    }
     if (2 * against > votes) ++n;
   }
   return n;

@@ -101,7 +101,9 @@ class AdaptedMesh {
   // Triangles of T_1 whose normal points against the surface normal near
   // most of their free corners (points 1/10 of the way to the centroid,
   // located on T_G from the vertex hints), or at the centroid for a triangle
-  // without a free corner. O(n); for tests and reports.
+  // without a free corner (by the sheet it faces when the centroid lies
+  // between two sheets of a thin part, the tip of a wing: either orientation
+  // faces one of them). O(n); for tests and reports.
   int count_inverted();
 
  private:
