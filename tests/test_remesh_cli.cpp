@@ -17,17 +17,7 @@ using namespace anisurf;
 
 namespace {
 
-std::string capture(const std::string& cmd, int* status = nullptr) {
-  std::string out;
-  FILE* f = popen(cmd.c_str(), "r");
-  if (!f) return out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, f)) > 0) out.append(buf, n);
-  const int rc = pclose(f);
-  if (status) *status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-  return out;
-}
+using test::capture;
 
 std::string adapt(const std::string& args, int* status) {
   return capture(std::string(ANISURF_BINARY) + " adapt " + args + " 2>/dev/null", status);

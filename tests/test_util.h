@@ -3,6 +3,9 @@
 #pragma once
 #include <doctest/doctest.h>
 
+#include <sys/wait.h>
+
+#include <cstdio>
 #include <filesystem>
 #include <string>
 
@@ -23,6 +26,21 @@ inline std::filesystem::path temp_dir(const std::string& name) {
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d;
+}
+
+// Runs a shell command and returns its standard output; *exit_code gets the
+// command's exit code (-1 if it did not exit normally or could not start).
+inline std::string capture(const std::string& cmd, int* exit_code = nullptr) {
+  std::string out;
+  if (exit_code) *exit_code = -1;
+  FILE* f = popen(cmd.c_str(), "r");
+  if (!f) return out;
+  char buf[4096];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) out.append(buf, n);
+  const int status = pclose(f);
+  if (exit_code) *exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return out;
 }
 
 }  // namespace anisurf::test
