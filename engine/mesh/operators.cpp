@@ -37,6 +37,7 @@ std::uint8_t boundary_free(std::uint8_t t) { return static_cast<std::uint8_t>(t 
 std::vector<Vertex> one_ring(const SurfaceMesh& m, Vertex v) {
   std::vector<Vertex> ring;
   std::vector<Corner> fan = m.fan(v);
+  ring.reserve(fan.size() + 1);
   for (Corner c : fan) ring.push_back(m.vertex(M::next(c)));
   if (!fan.empty() && m.is_boundary(v)) ring.push_back(m.vertex(M::prev(fan.back())));
   return ring;

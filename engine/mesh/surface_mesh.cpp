@@ -42,6 +42,7 @@ std::vector<Corner> SurfaceMesh::fan(Vertex v) const {
   std::vector<Corner> out;
   Corner start = corner(v);
   if (!start.is_valid()) return out;
+  out.reserve(8);  // most fans: no reallocation
   Corner c = start;
   do {
     out.push_back(c);

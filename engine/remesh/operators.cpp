@@ -13,7 +13,20 @@ namespace {
 
 using M = SurfaceMesh;
 
-double cos_deg(double deg) { return std::cos(deg * std::numbers::pi / 180.0); }
+// The few angle thresholds of the options come back at every check: their
+// cosines are kept (a small per-thread cache keyed by the angle).
+double cos_deg(double deg) {
+  constexpr int kSlots = 4;
+  thread_local double key[kSlots] = {NAN, NAN, NAN, NAN}, value[kSlots] = {};
+  thread_local int next_slot = 0;
+  for (int i = 0; i < kSlots; ++i)
+    if (key[i] == deg) return value[i];
+  const double v = std::cos(deg * std::numbers::pi / 180.0);
+  key[next_slot] = deg;
+  value[next_slot] = v;
+  next_slot = (next_slot + 1) % kSlots;
+  return v;
+}
 
 Vec3 raw_normal(const Vec3& a, const Vec3& b, const Vec3& c) { return cross(b - a, c - a); }
 
@@ -106,12 +119,17 @@ std::string_view rejection_name(Rejection r) {
 
 Corner find_edge_corner(const SurfaceMesh& mesh, Vertex a, Vertex b) {
   if (!a.is_valid() || !b.is_valid() || mesh.is_deleted(a) || mesh.is_deleted(b) || mesh.is_isolated(a)) return {};
-  for (Corner c : mesh.fan(a)) {
+  // The fan of a, counter-clockwise from corner(a) as SurfaceMesh::fan, without its vector.
+  const Corner start = mesh.corner(a);
+  Corner c = start;
+  int guard = 3 * mesh.triangle_capacity() + 1;
+  do {
     // In c's triangle, the edges at a are a->next and prev->a.
     const Corner n = M::next(c), p = M::prev(c);
     if (mesh.vertex(n) == b) return p;  // edge a -> b is opposite prev(c)
     if (mesh.vertex(p) == b) return n;  // edge b -> a is opposite next(c)
-  }
+    c = mesh.swing_ccw(c);
+  } while (c.is_valid() && c != start && --guard > 0);
   return {};
 }
 
@@ -201,9 +219,10 @@ int rank(VertexKind k) { return k == VertexKind::Free ? 0 : (k == VertexKind::Cu
 
 // Checks removing r into k, k taking the placement p. `c` names the edge.
 Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Placement& p, bool moves,
-                         VertexKind kind_r, VertexKind kind_k, const OperatorOptions& o) {
+                         VertexKind kind_r, VertexKind kind_k, const OperatorOptions& o,
+                         bool topology_checked = false) {
   const SurfaceMesh& mesh = m.mesh();
-  if (!anisurf::can_collapse(mesh, c)) return Rejection::Topology;
+  if (!topology_checked && !anisurf::can_collapse(mesh, c)) return Rejection::Topology;
   // Curve vertices: the new curve segments keep the directions of the old ones.
   if (kind_r == VertexKind::Curve || (moves && kind_k == VertexKind::Curve)) {
     const double lim = cos_deg(o.max_curve_turn_deg);
@@ -273,22 +292,34 @@ CollapsePlan can_collapse(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     VertexKind kr, kk;
     bool moves;
   };
-  std::vector<Option> options;
-  if (kp == kq && removable(kp) == Rejection::None) options.push_back({p, q, kp, kq, true});
+  std::array<Option, 3> options;
+  int n_options = 0;
+  if (kp == kq && removable(kp) == Rejection::None) options[n_options++] = {p, q, kp, kq, true};
   // The less constrained end first.
   if (rank(kp) <= rank(kq)) {
-    options.push_back({p, q, kp, kq, false});
-    options.push_back({q, p, kq, kp, false});
+    options[n_options++] = {p, q, kp, kq, false};
+    options[n_options++] = {q, p, kq, kp, false};
   } else {
-    options.push_back({q, p, kq, kp, false});
-    options.push_back({p, q, kp, kq, false});
+    options[n_options++] = {q, p, kq, kp, false};
+    options[n_options++] = {p, q, kp, kq, false};
   }
   Rejection last = Rejection::Fixed;
-  for (const Option& op : options) {
+  bool topology_checked = false;
+  for (int i = 0; i < n_options; ++i) {
+    const Option& op = options[i];
     const Rejection why = removable(op.kr);
     if (why != Rejection::None) {
       if (last == Rejection::Fixed) last = why;
       continue;
+    }
+    // The topological check depends on the edge only: once for all options
+    // (a refusal refuses them all, before any projection).
+    if (!topology_checked) {
+      if (!anisurf::can_collapse(mesh, c)) {
+        out.why = Rejection::Topology;
+        return out;
+      }
+      topology_checked = true;
     }
     Placement at;
     if (op.moves) {
@@ -297,7 +328,7 @@ CollapsePlan can_collapse(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     } else {
       at = m.current(op.kept);
     }
-    last = check_collapse(m, c, op.removed, op.kept, at, op.moves, op.kr, op.kk, o);
+    last = check_collapse(m, c, op.removed, op.kept, at, op.moves, op.kr, op.kk, o, true);
     if (last == Rejection::None) {
       out.why = Rejection::None;
       out.removed = op.removed;
@@ -368,11 +399,14 @@ SwapPlan can_swap(const AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     plan.why = Rejection::Feature;
     return plan;
   }
-  if (!can_flip(mesh, c)) {
+  // can_flip (mesh/operators.h) without its one-ring vector: the opposite
+  // triangle differs, and the new diagonal a-e is not an edge already.
+  const Corner oc = mesh.opposite(c);
+  if (M::triangle(oc) == M::triangle(c) || mesh.vertex(c) == mesh.vertex(oc) ||
+      find_edge_corner(mesh, mesh.vertex(c), mesh.vertex(oc)).is_valid()) {
     plan.why = Rejection::Topology;
     return plan;
   }
-  const Corner oc = mesh.opposite(c);
   const Vertex a = mesh.vertex(c), b = mesh.edge_from(c), d = mesh.edge_to(c), e = mesh.vertex(oc);
   const Vec3 &pa = mesh.position(a), &pb = mesh.position(b), &pd = mesh.position(d), &pe = mesh.position(e);
   const Vec3 n1 = normalized(raw_normal(pa, pb, pd)), n2 = normalized(raw_normal(pe, pd, pb));
@@ -417,19 +451,18 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
     plan.why = Rejection::Fixed;
     return plan;
   }
-  std::vector<Vertex> nbrs;
-  if (kind == VertexKind::Curve) {
-    for (const FeatureEdgeAt& f : feature_edges_at(mesh, v)) nbrs.push_back(f.other);
-  } else {
-    nbrs = one_ring(mesh, v);
-  }
+  const std::vector<Vertex> ring = one_ring(mesh, v);
+  std::vector<Vertex> curve_nbrs;
+  if (kind == VertexKind::Curve)
+    for (const FeatureEdgeAt& f : feature_edges_at(mesh, v)) curve_nbrs.push_back(f.other);
+  const std::vector<Vertex>& nbrs = kind == VertexKind::Curve ? curve_nbrs : ring;
   const Vec3 s = mesh.position(v);
   const SymTensor3 Mi_inv = inverse(m.metric(v));
   // Eq. 19 with the edge metrics M_j = ((M_s^-1 + M_j^-1) / 2)^-1.
   SymTensor3 A{};
   Vec3 rhs;
   double shortest = INFINITY;
-  for (Vertex w : one_ring(mesh, v)) shortest = std::min(shortest, norm(mesh.position(w) - s));
+  for (Vertex w : ring) shortest = std::min(shortest, norm(mesh.position(w) - s));
   for (Vertex w : nbrs) {
     const SymTensor3 Mj = inverse(0.5 * (Mi_inv + inverse(m.metric(w))));
     A += Mj;
@@ -453,11 +486,16 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
 
   const std::vector<Corner> fan = mesh.fan(v);
   std::vector<Vec3> old_n;
+  old_n.reserve(fan.size());
   plan.quality_before = 1;
   for (Corner x : fan) {
     old_n.push_back(unit_normal(mesh, M::triangle(x)));
     plan.quality_before = std::min(plan.quality_before, m.quality(M::triangle(x)));
   }
+  // The current lengths of the incident edges (the length filter compares with them).
+  std::vector<double> old_len;
+  old_len.reserve(ring.size());
+  for (Vertex w : ring) old_len.push_back(m.length(v, w));
   const Limits lim(o);
   Rejection last = Rejection::NoGain;
   for (int k = 0; k < o.move_backtracks; ++k, dx *= 0.5) {
@@ -471,11 +509,10 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
       q = std::min(q, m.quality(tv.x, tv.M));
     }
     if (last != Rejection::None) continue;
-    for (Vertex w : one_ring(mesh, v)) {
-      const Vec3& pw = mesh.position(w);
-      const double l_new = m.length(at.position, at.values.metric, pw, m.metric(w));
-      const double l_old = m.length(v, w);
-      if (l_new > o.lmax && l_new > l_old) last = Rejection::Length;
+    for (std::size_t i = 0; i < ring.size() && last == Rejection::None; ++i) {
+      const Vertex w = ring[i];
+      const double l_new = m.length(at.position, at.values.metric, mesh.position(w), m.metric(w));
+      if (l_new > o.lmax && l_new > old_len[i]) last = Rejection::Length;
     }
     if (last != Rejection::None) continue;
     if (kind == VertexKind::Curve) {

@@ -6,6 +6,7 @@
 
 #include "geometry/features.h"
 #include "mesh/operators.h"
+#include "metric/quality.h"
 
 namespace anisurf::remesh {
 
@@ -303,25 +304,37 @@ void Remesher::fill_state(PassReport& r) const {
   r.length_min = INFINITY;
   r.length_max = 0;
   int in_band = 0;
-  for_each_edge(mesh, [&](Corner c) {
-    const double l = mesh_.length(mesh.edge_from(c), mesh.edge_to(c));
-    ++r.edges;
-    r.length_min = std::min(r.length_min, l);
-    r.length_max = std::max(r.length_max, l);
-    std::size_t bin = 0;
-    while (bin + 1 < kLengthBins.size() && l >= kLengthBins[bin]) ++bin;
-    ++r.histogram[bin];
-    if (l >= kLengthBins[2] && l <= kLengthBins[5]) ++in_band;
-  });
-  r.in_band_share = r.edges ? static_cast<double>(in_band) / r.edges : 0.0;
   r.q_min = 1;
   double sum = 0;
+  // One sweep over the triangles, one length per edge: computed at its
+  // canonical corner (the smaller of the two, so met first), kept for the
+  // other corner, and the quality of each triangle from its three lengths
+  // (the edge of corner k runs from vertex k + 1 to k + 2).
+  edge_length_scratch_.resize(static_cast<std::size_t>(3 * mesh.triangle_capacity()));
+  double* len = edge_length_scratch_.data();
   for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-    if (mesh.is_deleted(Triangle(t))) continue;
-    const double q = mesh_.quality(Triangle(t));
+    const Triangle tr(t);
+    if (mesh.is_deleted(tr)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Corner c = M::corner(tr, k);
+      const Corner o = mesh.opposite(c);
+      if (o.is_valid() && o.idx < c.idx) continue;  // counted at o, its length in len[c]
+      const double le = mesh_.length(mesh.edge_from(c), mesh.edge_to(c));
+      len[c.idx] = le;
+      if (o.is_valid()) len[o.idx] = le;
+      ++r.edges;
+      r.length_min = std::min(r.length_min, le);
+      r.length_max = std::max(r.length_max, le);
+      std::size_t bin = 0;
+      while (bin + 1 < kLengthBins.size() && le >= kLengthBins[bin]) ++bin;
+      ++r.histogram[bin];
+      if (le >= kLengthBins[2] && le <= kLengthBins[5]) ++in_band;
+    }
+    const double q = quality_from_lengths(len[3 * t + 2], len[3 * t], len[3 * t + 1]);
     r.q_min = std::min(r.q_min, q);
     sum += q;
   }
+  r.in_band_share = r.edges ? static_cast<double>(in_band) / r.edges : 0.0;
   r.q_mean = r.triangles ? sum / r.triangles : 0.0;
 }
 

@@ -119,6 +119,7 @@ class Remesher {
   int smoothing_done_ = 0;
   std::vector<std::uint8_t> swap_active_, smooth_active_;  // per vertex slot
   int iteration_ = 0;
+  mutable std::vector<double> edge_length_scratch_;  // fill_state: one length per corner
 };
 
 }  // namespace anisurf::remesh
