@@ -345,7 +345,9 @@ PassReport Remesher::measure() const {
   return r;
 }
 
-PassReport Remesher::step(PassKind kind) {
+PassReport Remesher::step(PassKind kind) { return step(kind, nullptr); }
+
+PassReport Remesher::step(PassKind kind, const PassReport* previous) {
   const auto t0 = Clock::now();
   PassReport r;
   r.kind = kind;
@@ -358,17 +360,36 @@ PassReport Remesher::step(PassKind kind) {
     case PassKind::Final: final_pass(r); break;
   }
   r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  fill_state(r);
+  if (previous && r.changes() == 0) {
+    // Every change of the mesh is counted: a pass without any left the
+    // state of the previous one (within run(), nothing else touches the mesh).
+    r.vertices = previous->vertices;
+    r.triangles = previous->triangles;
+    r.edges = previous->edges;
+    r.histogram = previous->histogram;
+    r.in_band_share = previous->in_band_share;
+    r.length_min = previous->length_min;
+    r.length_max = previous->length_max;
+    r.q_min = previous->q_min;
+    r.q_mean = previous->q_mean;
+  } else {
+    fill_state(r);
+  }
   return r;
 }
 
 std::vector<PassReport> Remesher::run(const std::function<void(const PassReport&)>& progress) {
   std::vector<PassReport> out;
+  // The last report whose state is the mesh's now (null after the metric changed).
+  const PassReport* last = nullptr;
   auto record = [&](PassReport r) {
     if (progress) progress(r);
     out.push_back(std::move(r));
+    last = &out.back();
     return out.back().changes();
   };
+  // The state of a pass without changes is the previous one's.
+  auto step = [&](PassKind kind) { return this->step(kind, last); };  // before `out` grows
   if (options_.initial_swaps) record(step(PassKind::Swap));
   const int stages = std::max(0, options_.relaxation_stages);
   ControlSpace& control = mesh_.control();
@@ -377,6 +398,7 @@ std::vector<PassReport> Remesher::run(const std::function<void(const PassReport&
       control.set_relaxation(static_cast<double>(stage + 1) / (stages + 1));
       mesh_.refresh_values();
       mark_all();
+      last = nullptr;
     }
     const int first = iteration_ + 1;
     for (++iteration_; iteration_ < first + options_.max_iterations; ++iteration_) {

@@ -97,6 +97,9 @@ class Remesher {
     PassKind kind;
     std::vector<std::array<int, 2>> created;  // edges created (sorted vertex pairs)
   };
+  // step(), taking the state from `previous` (the report of the pass just
+  // before, null if none) when the pass changed nothing.
+  PassReport step(PassKind kind, const PassReport* previous);
   void split_pass(PassReport& r);
   void collapse_pass(PassReport& r);
   void swap_pass(PassReport& r);
