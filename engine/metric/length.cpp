@@ -4,23 +4,12 @@
 
 namespace anisurf {
 
-double length_linear_metric(double l0, double l1) {
-  const double s = l0 + l1;
-  if (!(s > 0)) return 0.0;
-  return (2.0 / 3.0) * (l0 * l0 + l0 * l1 + l1 * l1) / s;
-}
-
 double length_linear_size(double l0, double l1) {
   if (l0 == l1) return l0;
   if (!(l0 > 0) || !(l1 > 0)) return 0.0;  // the size vanishes at one end: the integral diverges only in the limit
   // l0 l1 log(l0/l1) / (l0 - l1) = l0 u / (exp(u) - 1) with u = log(l0 / l1).
   const double u = std::log(l0 / l1);
   return l0 * u / std::expm1(u);
-}
-
-double edge_length(const SymTensor3& M0, const SymTensor3& M1, const Vec3& e, LengthFormula formula) {
-  const double l0 = metric_length(M0, e), l1 = metric_length(M1, e);
-  return formula == LengthFormula::LinearMetric ? length_linear_metric(l0, l1) : length_linear_size(l0, l1);
 }
 
 namespace {

@@ -24,11 +24,19 @@ enum class LengthFormula {
 };
 
 // Eq. 6: 2/3 (l0^2 + l0 l1 + l1^2) / (l0 + l1) (0 for l0 = l1 = 0).
-double length_linear_metric(double l0, double l1);
+// Inline: the remesher's inner loops measure edges all the time.
+inline double length_linear_metric(double l0, double l1) {
+  const double s = l0 + l1;
+  if (!(s > 0)) return 0.0;
+  return (2.0 / 3.0) * (l0 * l0 + l0 * l1 + l1 * l1) / s;
+}
 // Eq. 7: l0 l1 log(l0 / l1) / (l0 - l1), l0 when equal (stable near l0 = l1).
 double length_linear_size(double l0, double l1);
 // Length of the edge vector e from the metrics at its ends (eq. 6 or 7).
-double edge_length(const SymTensor3& M0, const SymTensor3& M1, const Vec3& e, LengthFormula formula);
+inline double edge_length(const SymTensor3& M0, const SymTensor3& M1, const Vec3& e, LengthFormula formula) {
+  const double l0 = metric_length(M0, e), l1 = metric_length(M1, e);
+  return formula == LengthFormula::LinearMetric ? length_linear_metric(l0, l1) : length_linear_size(l0, l1);
+}
 
 // Metric at parameter t in [0, 1] between M0 (t = 0) and M1 (t = 1).
 SymTensor3 interpolate_metric(const SymTensor3& M0, const SymTensor3& M1, double t, MetricInterpolation how);
