@@ -15,10 +15,7 @@ namespace {
 using M = SurfaceMesh;
 using Clock = std::chrono::steady_clock;
 
-struct EdgeItem {
-  double length;
-  int a, b;
-};
+using EdgeItem = Remesher::EdgeItem;
 struct Longer {
   bool operator()(const EdgeItem& x, const EdgeItem& y) const { return x.length < y.length; }
 };
@@ -129,16 +126,24 @@ int Remesher::local_swaps(Vertex v, PassReport& r) {
 void Remesher::split_pass(PassReport& r) {
   SurfaceMesh& mesh = mesh_.mesh();
   const OperatorOptions& o = options_.op;
-  std::priority_queue<EdgeItem, std::vector<EdgeItem>, Longer> heap;
+  // A binary heap (as std::priority_queue) in storage kept from pass to pass.
+  std::vector<EdgeItem>& heap = heap_;
+  heap.clear();
+  const Longer order;
+  auto push = [&](const EdgeItem& it) {
+    heap.push_back(it);
+    std::push_heap(heap.begin(), heap.end(), order);
+  };
   for_each_edge(mesh, [&](Corner c) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     const double l = mesh_.length(a, b);
-    if (l > o.lmax) heap.push({l, a.idx, b.idx});
+    if (l > o.lmax) push({l, a.idx, b.idx});
   });
   long long budget = 20LL * mesh.n_triangles() + 1000;
   while (!heap.empty() && budget-- > 0) {
-    const EdgeItem it = heap.top();
-    heap.pop();
+    const EdgeItem it = heap.front();
+    std::pop_heap(heap.begin(), heap.end(), order);
+    heap.pop_back();
     const Vertex a(it.a), b(it.b);
     const Corner c = find_edge_corner(mesh, a, b);
     if (!c.is_valid()) continue;
@@ -167,7 +172,7 @@ void Remesher::split_pass(PassReport& r) {
     touch(r, v);
     for (Vertex w : one_ring(mesh, v)) {
       const double l = mesh_.length(v, w);
-      if (l > o.lmax) heap.push({l, v.idx, w.idx});
+      if (l > o.lmax) push({l, v.idx, w.idx});
     }
   }
 }
@@ -175,16 +180,24 @@ void Remesher::split_pass(PassReport& r) {
 void Remesher::collapse_pass(PassReport& r) {
   SurfaceMesh& mesh = mesh_.mesh();
   const OperatorOptions& o = options_.op;
-  std::priority_queue<EdgeItem, std::vector<EdgeItem>, Shorter> heap;
+  // A binary heap (as std::priority_queue) in storage kept from pass to pass.
+  std::vector<EdgeItem>& heap = heap_;
+  heap.clear();
+  const Shorter order;
+  auto push = [&](const EdgeItem& it) {
+    heap.push_back(it);
+    std::push_heap(heap.begin(), heap.end(), order);
+  };
   for_each_edge(mesh, [&](Corner c) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     const double l = mesh_.length(a, b);
-    if (l < o.lmin) heap.push({l, a.idx, b.idx});
+    if (l < o.lmin) push({l, a.idx, b.idx});
   });
   long long budget = 20LL * mesh.n_triangles() + 1000;
   while (!heap.empty() && budget-- > 0) {
-    const EdgeItem it = heap.top();
-    heap.pop();
+    const EdgeItem it = heap.front();
+    std::pop_heap(heap.begin(), heap.end(), order);
+    heap.pop_back();
     const Vertex a(it.a), b(it.b);
     const Corner c = find_edge_corner(mesh, a, b);
     if (!c.is_valid()) continue;
@@ -205,7 +218,7 @@ void Remesher::collapse_pass(PassReport& r) {
     touch(r, v);
     for (Vertex w : one_ring(mesh, v)) {
       const double l = mesh_.length(v, w);
-      if (l < o.lmin) heap.push({l, v.idx, w.idx});
+      if (l < o.lmin) push({l, v.idx, w.idx});
     }
   }
 }

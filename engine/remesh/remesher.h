@@ -72,6 +72,10 @@ struct PassReport {
 
 class Remesher {
  public:
+  struct EdgeItem {  // an edge waiting in the split or collapse heap
+    double length;
+    int a, b;
+  };
   // The adapted mesh must outlive the remesher.
   explicit Remesher(AdaptedMesh& mesh, const RemeshOptions& options = {});
 
@@ -122,6 +126,7 @@ class Remesher {
   int smoothing_done_ = 0;
   std::vector<std::uint8_t> swap_active_, smooth_active_;  // per vertex slot
   int iteration_ = 0;
+  std::vector<EdgeItem> heap_;  // split / collapse passes: the heap's storage
   mutable std::vector<double> edge_length_scratch_;  // fill_state: one length per corner
 };
 
