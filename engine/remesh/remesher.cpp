@@ -23,6 +23,28 @@ struct Shorter {
   bool operator()(const EdgeItem& x, const EdgeItem& y) const { return x.length > y.length; }
 };
 
+// A binary heap (as std::priority_queue, same order) over storage kept from
+// pass to pass; Order puts the edge to treat first on top.
+template <class Order>
+class EdgeHeap {
+ public:
+  explicit EdgeHeap(std::vector<EdgeItem>& storage) : items_(storage) { items_.clear(); }
+  bool empty() const { return items_.empty(); }
+  void push(const EdgeItem& it) {
+    items_.push_back(it);
+    std::push_heap(items_.begin(), items_.end(), Order());
+  }
+  EdgeItem pop() {
+    const EdgeItem top = items_.front();
+    std::pop_heap(items_.begin(), items_.end(), Order());
+    items_.pop_back();
+    return top;
+  }
+
+ private:
+  std::vector<EdgeItem>& items_;
+};
+
 std::array<int, 2> key(Vertex a, Vertex b) { return a.idx < b.idx ? std::array{a.idx, b.idx} : std::array{b.idx, a.idx}; }
 
 // Calls f(corner) once per live edge.
@@ -126,24 +148,15 @@ int Remesher::local_swaps(Vertex v, PassReport& r) {
 void Remesher::split_pass(PassReport& r) {
   SurfaceMesh& mesh = mesh_.mesh();
   const OperatorOptions& o = options_.op;
-  // A binary heap (as std::priority_queue) in storage kept from pass to pass.
-  std::vector<EdgeItem>& heap = heap_;
-  heap.clear();
-  const Longer order;
-  auto push = [&](const EdgeItem& it) {
-    heap.push_back(it);
-    std::push_heap(heap.begin(), heap.end(), order);
-  };
+  EdgeHeap<Longer> heap(heap_);
   for_each_edge(mesh, [&](Corner c) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     const double l = mesh_.length(a, b);
-    if (l > o.lmax) push({l, a.idx, b.idx});
+    if (l > o.lmax) heap.push({l, a.idx, b.idx});
   });
   long long budget = 20LL * mesh.n_triangles() + 1000;
   while (!heap.empty() && budget-- > 0) {
-    const EdgeItem it = heap.front();
-    std::pop_heap(heap.begin(), heap.end(), order);
-    heap.pop_back();
+    const EdgeItem it = heap.pop();
     const Vertex a(it.a), b(it.b);
     const Corner c = find_edge_corner(mesh, a, b);
     if (!c.is_valid()) continue;
@@ -172,7 +185,7 @@ void Remesher::split_pass(PassReport& r) {
     touch(r, v);
     for (Vertex w : one_ring(mesh, v)) {
       const double l = mesh_.length(v, w);
-      if (l > o.lmax) push({l, v.idx, w.idx});
+      if (l > o.lmax) heap.push({l, v.idx, w.idx});
     }
   }
 }
@@ -180,24 +193,15 @@ void Remesher::split_pass(PassReport& r) {
 void Remesher::collapse_pass(PassReport& r) {
   SurfaceMesh& mesh = mesh_.mesh();
   const OperatorOptions& o = options_.op;
-  // A binary heap (as std::priority_queue) in storage kept from pass to pass.
-  std::vector<EdgeItem>& heap = heap_;
-  heap.clear();
-  const Shorter order;
-  auto push = [&](const EdgeItem& it) {
-    heap.push_back(it);
-    std::push_heap(heap.begin(), heap.end(), order);
-  };
+  EdgeHeap<Shorter> heap(heap_);
   for_each_edge(mesh, [&](Corner c) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     const double l = mesh_.length(a, b);
-    if (l < o.lmin) push({l, a.idx, b.idx});
+    if (l < o.lmin) heap.push({l, a.idx, b.idx});
   });
   long long budget = 20LL * mesh.n_triangles() + 1000;
   while (!heap.empty() && budget-- > 0) {
-    const EdgeItem it = heap.front();
-    std::pop_heap(heap.begin(), heap.end(), order);
-    heap.pop_back();
+    const EdgeItem it = heap.pop();
     const Vertex a(it.a), b(it.b);
     const Corner c = find_edge_corner(mesh, a, b);
     if (!c.is_valid()) continue;
@@ -218,7 +222,7 @@ void Remesher::collapse_pass(PassReport& r) {
     touch(r, v);
     for (Vertex w : one_ring(mesh, v)) {
       const double l = mesh_.length(v, w);
-      if (l < o.lmin) push({l, v.idx, w.idx});
+      if (l < o.lmin) heap.push({l, v.idx, w.idx});
     }
   }
 }
