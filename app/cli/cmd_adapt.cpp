@@ -127,6 +127,7 @@ int run_adapt(const std::vector<std::string>& args) {
   const std::string surface = p.option("--surface");
   const std::string geometry_path = p.option("--geometry");
   const std::string report_path = p.option("--report");
+  ro.record_touched = !report_path.empty();  // only the JSON report counts them
   std::string verb = p.option("-v", "--verbose");
   const int verbose = verb.empty() ? 1 : std::atoi(verb.c_str());
   auto pos = p.positionals();
@@ -251,16 +252,21 @@ int run_adapt(const std::vector<std::string>& args) {
   const remesh::PassReport final_state = remesher.measure();
   const int inverted = adapted.count_inverted();
 
-  // Outputs: the mesh, its metric (and the solution values) in compact numbering.
-  SurfaceMesh& t1 = adapted.mesh();
+  // Outputs: the mesh, its metric (and the solution values) in compact
+  // numbering. T_1 is taken out and the G1 surface freed first: writing
+  // copies the mesh once more, and the peak memory must not add up both.
+  const std::string surface_name = geometry->name();
+  SurfaceMesh t1 = std::move(adapted.mesh());  // `adapted` is not used after this
+  geometry.reset();
   t1.compact();
+  const Property<SymTensor3> t1_metric = t1.get_vertex_property<SymTensor3>("remesh:metric");
   save_mesh(out, t1);
   const std::string out_sol = sol_path_for(out);
   std::vector<FieldData> fields;
   FieldData mf;
   mf.info = FieldInfo{"metric", FieldKind::Tensor, 6};
   for (int v = 0; v < t1.vertex_capacity(); ++v) {
-    const SymTensor3& T = adapted.metric(Vertex(v));
+    const SymTensor3& T = t1_metric[Vertex(v)];
     mf.values.insert(mf.values.end(), T.m.begin(), T.m.end());
   }
   fields.push_back(std::move(mf));
@@ -288,7 +294,7 @@ int run_adapt(const std::vector<std::string>& args) {
     j["input"] = in;
     j["output"] = out;
     j["metric"] = what;
-    j["surface"] = geometry->name();
+    j["surface"] = surface_name;
     j["seconds"] = seconds;
     j["setup_seconds"] = t_setup;
     j["initial"] = pass_json(initial);

@@ -36,11 +36,14 @@ class PropertyArray final : public BasePropertyArray {
   void resize(std::size_t n) override { data_.resize(n, init_); }
   void reserve(std::size_t n) override { data_.reserve(n); }
   void reset(std::size_t i) override { data_[i] = init_; }
+  // In place (keep_map is increasing: entries only move down), so no second
+  // copy of the array is ever alive.
   void compact(const std::vector<int>& keep_map, std::size_t n) override {
-    std::vector<T> out(n, init_);
-    for (std::size_t i = 0; i < keep_map.size() && i < data_.size(); ++i)
-      if (keep_map[i] >= 0) out[static_cast<std::size_t>(keep_map[i])] = std::move(data_[i]);
-    data_.swap(out);
+    for (std::size_t i = 0; i < keep_map.size() && i < data_.size(); ++i) {
+      const auto to = static_cast<std::size_t>(keep_map[i]);
+      if (keep_map[i] >= 0 && to != i) data_[to] = std::move(data_[i]);
+    }
+    data_.resize(n, init_);
   }
   std::unique_ptr<BasePropertyArray> clone() const override {
     auto p = std::make_unique<PropertyArray<T>>(name(), init_);

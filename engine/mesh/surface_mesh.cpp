@@ -98,9 +98,9 @@ void SurfaceMesh::set_edge_tags(Corner c, std::uint8_t t) {
 }
 
 void SurfaceMesh::set_edge_ref(Corner c, int r) {
-  eref_[c.idx] = r;
+  eref_.set(c.idx, r);
   int o = to_[c.idx];
-  if (o >= 0) eref_[o] = r;
+  if (o >= 0) eref_.set(o, r);
 }
 
 void SurfaceMesh::update_boundary_tags() {
@@ -127,7 +127,7 @@ void SurfaceMesh::push_vertex_slot() {
   vpos_.emplace_back();
   vcorner_.push_back(-1);
   vtag_.push_back(0);
-  vref_.push_back(0);
+  vref_.push_back_zero();
   vprops_.push_back();
 }
 
@@ -136,10 +136,10 @@ void SurfaceMesh::push_triangle_slot() {
     tv_.push_back(-1);
     to_.push_back(-1);
     etag_.push_back(0);
-    eref_.push_back(0);
+    eref_.push_back_zero();
   }
   ttag_.push_back(0);
-  tref_.push_back(0);
+  tref_.push_back_zero();
   tprops_.push_back();
 }
 
@@ -156,7 +156,7 @@ Vertex SurfaceMesh::add_vertex(const Vec3& p) {
   vpos_[v] = p;
   vcorner_[v] = -1;
   vtag_[v] = 0;
-  vref_[v] = 0;
+  vref_.set(v, 0);
   return Vertex(v);
 }
 
@@ -174,10 +174,10 @@ Triangle SurfaceMesh::allocate_triangle() {
     tv_[3 * t + k] = -1;
     to_[3 * t + k] = -1;
     etag_[3 * t + k] = 0;
-    eref_[3 * t + k] = 0;
+    eref_.set(3 * t + k, 0);
   }
   ttag_[t] = 0;
-  tref_[t] = 0;
+  tref_.set(t, 0);
   return Triangle(t);
 }
 
@@ -217,7 +217,7 @@ Triangle SurfaceMesh::add_triangle(Vertex a, Vertex b, Vertex c) {
     if (across[k].is_valid()) {
       link(corner(t, k), across[k]);
       etag_[3 * t.idx + k] = etag_[across[k].idx];
-      eref_[3 * t.idx + k] = eref_[across[k].idx];
+      eref_.set(3 * t.idx + k, eref_[across[k].idx]);
     }
   for (int k = 0; k < 3; ++k) {
     if (vcorner_[vs[k].idx] < 0) vcorner_[vs[k].idx] = 3 * t.idx + k;
@@ -244,10 +244,10 @@ void SurfaceMesh::delete_triangle(Triangle t) {
     to_[c] = -1;
     tv_[c] = -1;
     etag_[c] = 0;
-    eref_[c] = 0;
+    eref_.set(c, 0);
   }
   ttag_[t.idx] = 0;
-  tref_[t.idx] = 0;
+  tref_.set(t.idx, 0);
   free_triangles_.push_back(t.idx);
   for (int k = 0; k < 3; ++k) {
     int v = verts[k];
@@ -261,10 +261,10 @@ void SurfaceMesh::release_triangle(Triangle t) {
     tv_[3 * t.idx + k] = -1;
     to_[3 * t.idx + k] = -1;
     etag_[3 * t.idx + k] = 0;
-    eref_[3 * t.idx + k] = 0;
+    eref_.set(3 * t.idx + k, 0);
   }
   ttag_[t.idx] = 0;
-  tref_[t.idx] = 0;
+  tref_.set(t.idx, 0);
   free_triangles_.push_back(t.idx);
 }
 
@@ -287,43 +287,38 @@ CompactMap SurfaceMesh::compact() {
 
   auto corner_map = [&](int c) { return c < 0 ? c : 3 * map.triangle[c / 3] + c % 3; };
 
-  std::vector<Vec3> pos(nv);
-  std::vector<int> vc(nv);
-  std::vector<std::uint8_t> vt(nv);
-  std::vector<int> vr(nv);
+  // In place: the maps are increasing, so every slot moves down (or stays)
+  // and is read before anything is written over it.
   for (std::size_t v = 0; v < vpos_.size(); ++v) {
-    int n = map.vertex[v];
+    const int n = map.vertex[v];
     if (n < 0) continue;
-    pos[n] = vpos_[v];
-    vc[n] = corner_map(vcorner_[v]);
-    vt[n] = vtag_[v];
-    vr[n] = vref_[v];
+    vpos_[n] = vpos_[v];
+    vcorner_[n] = corner_map(vcorner_[v]);
+    vtag_[n] = vtag_[v];
+    vref_.set(n, vref_[v]);
   }
-  std::vector<int> tv(3 * nt), to(3 * nt), er(3 * nt);
-  std::vector<std::uint8_t> et(3 * nt), tt(nt);
-  std::vector<int> tr(nt);
   for (std::size_t t = 0; t < tv_.size() / 3; ++t) {
-    int n = map.triangle[t];
+    const int n = map.triangle[t];
     if (n < 0) continue;
     for (int k = 0; k < 3; ++k) {
-      tv[3 * n + k] = map.vertex[tv_[3 * t + k]];
-      to[3 * n + k] = corner_map(to_[3 * t + k]);
-      et[3 * n + k] = etag_[3 * t + k];
-      er[3 * n + k] = eref_[3 * t + k];
+      tv_[3 * n + k] = map.vertex[tv_[3 * t + k]];
+      to_[3 * n + k] = corner_map(to_[3 * t + k]);
+      etag_[3 * n + k] = etag_[3 * t + k];
+      eref_.set(3 * n + k, eref_[3 * t + k]);
     }
-    tt[n] = ttag_[t];
-    tr[n] = tref_[t];
+    ttag_[n] = ttag_[t];
+    tref_.set(n, tref_[t]);
   }
-  vpos_.swap(pos);
-  vcorner_.swap(vc);
-  vtag_.swap(vt);
-  vref_.swap(vr);
-  tv_.swap(tv);
-  to_.swap(to);
-  etag_.swap(et);
-  eref_.swap(er);
-  ttag_.swap(tt);
-  tref_.swap(tr);
+  vpos_.resize(nv);
+  vcorner_.resize(nv);
+  vtag_.resize(nv);
+  vref_.resize(nv);
+  tv_.resize(3 * nt);
+  to_.resize(3 * nt);
+  etag_.resize(3 * nt);
+  eref_.resize(3 * nt);
+  ttag_.resize(nt);
+  tref_.resize(nt);
   free_vertices_.clear();
   free_triangles_.clear();
   vprops_.compact(map.vertex, static_cast<std::size_t>(nv));
@@ -369,6 +364,11 @@ Property<FieldValue> SurfaceMesh::add_field(const std::string& name, FieldKind k
   auto p = vprops_.add<FieldValue>("field:" + name, FieldValue{});
   fields_.push_back(FieldInfo{name, kind, ncomp});
   return p;
+}
+
+void SurfaceMesh::remove_field(const std::string& name) {
+  vprops_.remove("field:" + name);
+  std::erase_if(fields_, [&](const FieldInfo& f) { return f.name == name; });
 }
 
 Property<FieldValue> SurfaceMesh::get_field(const std::string& name) const {

@@ -19,6 +19,7 @@
 
 #include "core/vec3.h"
 #include "mesh/properties.h"
+#include "mesh/ref_array.h"
 
 namespace anisurf {
 
@@ -149,7 +150,7 @@ class SurfaceMesh {
   void remove_vertex_tag(Vertex v, Tag t) { vtag_[v.idx] &= static_cast<std::uint8_t>(~t); }
   bool has_tag(Vertex v, Tag t) const { return (vtag_[v.idx] & t) != 0; }
   int vertex_ref(Vertex v) const { return vref_[v.idx]; }
-  void set_vertex_ref(Vertex v, int r) { vref_[v.idx] = r; }
+  void set_vertex_ref(Vertex v, int r) { vref_.set(static_cast<std::size_t>(v.idx), r); }
 
   std::uint8_t edge_tags(Corner c) const { return etag_[c.idx]; }
   void set_edge_tags(Corner c, std::uint8_t t);
@@ -163,7 +164,7 @@ class SurfaceMesh {
   void set_triangle_tags(Triangle t, std::uint8_t g) { ttag_[t.idx] = g; }
   bool has_tag(Triangle t, Tag g) const { return (ttag_[t.idx] & g) != 0; }
   int triangle_ref(Triangle t) const { return tref_[t.idx]; }
-  void set_triangle_ref(Triangle t, int r) { tref_[t.idx] = r; }
+  void set_triangle_ref(Triangle t, int r) { tref_.set(static_cast<std::size_t>(t.idx), r); }
 
   // Recompute kBoundary on edges and vertices from the connectivity.
   void update_boundary_tags();
@@ -233,6 +234,7 @@ class SurfaceMesh {
   // Adds a field of `ncomp` doubles per vertex; returns its property.
   Property<FieldValue> add_field(const std::string& name, FieldKind kind, int ncomp);
   Property<FieldValue> get_field(const std::string& name) const;
+  void remove_field(const std::string& name);  // no-op when absent
 
   static constexpr int kDeletedMark = -2;
 
@@ -244,14 +246,14 @@ class SurfaceMesh {
   std::vector<Vec3> vpos_;
   std::vector<int> vcorner_;   // -1 isolated, kDeletedMark deleted
   std::vector<std::uint8_t> vtag_;
-  std::vector<int> vref_;
+  RefArray vref_;
   // triangles / corners
   std::vector<int> tv_;        // 3 per triangle; tv_[3t] == -1 marks a deleted slot
   std::vector<int> to_;        // opposite corner or -1
   std::vector<std::uint8_t> etag_;  // per corner: tags of its opposite edge
-  std::vector<int> eref_;           // per corner: reference of its opposite edge
+  RefArray eref_;           // per corner: reference of its opposite edge
   std::vector<std::uint8_t> ttag_;
-  std::vector<int> tref_;
+  RefArray tref_;
   // free lists
   std::vector<int> free_vertices_;
   std::vector<int> free_triangles_;

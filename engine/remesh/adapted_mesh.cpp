@@ -20,6 +20,16 @@ AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, Control
   on_surface_ = mesh_.add_vertex_property<std::uint8_t>("remesh:on_surface", 1);
   hint_g_ = mesh_.add_vertex_property<Hint>("remesh:hint_g");
   hint_0_ = mesh_.add_vertex_property<Hint>("remesh:hint_0");
+  // Fields of the initial mesh that are not solution fields of T_0 (its
+  // metric: T_1 keeps its own in remesh:metric) would follow every new
+  // vertex for nothing (48 bytes each).
+  std::vector<std::string> stale;
+  for (const FieldInfo& f : mesh_.fields()) {
+    const auto& infos = control_.field_infos();
+    if (std::none_of(infos.begin(), infos.end(), [&](const FieldInfo& g) { return g.name == f.name; }))
+      stale.push_back(f.name);
+  }
+  for (const std::string& n : stale) mesh_.remove_field(n);
   for (const FieldInfo& f : control_.field_infos()) {
     Property<FieldValue> p = mesh_.get_field(f.name);
     if (!p) p = mesh_.add_field(f.name, f.kind, f.ncomp);

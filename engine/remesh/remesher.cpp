@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <new>
 #include <queue>
 
 #include "geometry/features.h"
 #include "mesh/operators.h"
 #include "metric/quality.h"
+#include "metric/surface_metric.h"
 
 namespace anisurf::remesh {
 
@@ -79,7 +81,29 @@ std::string_view pass_name(PassKind k) {
   return "?";
 }
 
-Remesher::Remesher(AdaptedMesh& mesh, const RemeshOptions& options) : mesh_(mesh), options_(options) { mark_all(); }
+Remesher::Remesher(AdaptedMesh& mesh, const RemeshOptions& options) : mesh_(mesh), options_(options) {
+  reserve_for_metric();
+  mark_all();
+}
+
+void Remesher::reserve_for_metric() {
+  // The adapted mesh has about 2 C / sqrt(3) vertices (C the metric area of
+  // the surface, metric/surface_metric.h). Reserving that (with a margin for
+  // edges shorter than 1) up front spares the copies a growing array makes,
+  // each of which briefly holds the old and the new buffer; capacity never
+  // written is not resident, so the margin costs address space only.
+  const ControlSpace& control = mesh_.control();
+  const double vertices = 1.5 * predicted_vertex_count(metric_complexity(control.mesh(), control.target_metric()));
+  SurfaceMesh& m = mesh_.mesh();
+  constexpr double kMaxVertices = 25e6;  // a bound on the reservation, not on the mesh
+  if (!(vertices > m.vertex_capacity())) return;
+  const int nv = static_cast<int>(std::min(vertices, kMaxVertices));
+  try {
+    m.reserve(nv, 2 * nv + 16);
+  } catch (const std::bad_alloc&) {
+    // No room to reserve: the arrays grow as they go.
+  }
+}
 
 void Remesher::mark_all() {
   const std::size_t n = static_cast<std::size_t>(mesh_.mesh().vertex_capacity());
@@ -98,8 +122,17 @@ void Remesher::mark(Vertex v) {
   smooth_active_[i] = 1;
 }
 
-void Remesher::touch(PassReport& r, Vertex v) {
+void Remesher::record_touched(PassReport& r, Vertex v) {
+  if (!options_.record_touched) return;
+  const std::size_t i = static_cast<std::size_t>(v.idx);
+  if (i >= touched_mark_.size()) touched_mark_.resize(std::max<std::size_t>(i + 1, static_cast<std::size_t>(mesh_.mesh().vertex_capacity())), 0);
+  if (touched_mark_[i]) return;
+  touched_mark_[i] = 1;
   r.touched.push_back(v.idx);
+}
+
+void Remesher::touch(PassReport& r, Vertex v) {
+  record_touched(r, v);
   mark(v);
   for (Vertex w : one_ring(mesh_.mesh(), v)) mark(w);
 }
@@ -255,7 +288,8 @@ void Remesher::swap_pass(PassReport& r) {
     for (Corner x : {M::next(d), M::prev(d), M::next(od), M::prev(od)})
       queue.push_back({mesh.edge_from(x).idx, mesh.edge_to(x).idx});
     for (Corner x : {d, od}) {
-      r.touched.push_back(mesh.vertex(x).idx);
+      record_touched(r, mesh.vertex(x));
+      record_touched(r, mesh.edge_from(x));
       mark(mesh.vertex(x));
       mark(mesh.edge_from(x));
     }
@@ -327,8 +361,9 @@ void Remesher::fill_state(PassReport& r) const {
   // canonical corner (the smaller of the two, so met first), kept for the
   // other corner, and the quality of each triangle from its three lengths
   // (the edge of corner k runs from vertex k + 1 to k + 2).
-  edge_length_scratch_.resize(static_cast<std::size_t>(3 * mesh.triangle_capacity()));
-  double* len = edge_length_scratch_.data();
+  // (Single precision, alive only here: 12 bytes per triangle slot.)
+  std::vector<float> lengths(static_cast<std::size_t>(3 * mesh.triangle_capacity()));
+  float* len = lengths.data();
   for (int t = 0; t < mesh.triangle_capacity(); ++t) {
     const Triangle tr(t);
     if (mesh.is_deleted(tr)) continue;
@@ -337,8 +372,8 @@ void Remesher::fill_state(PassReport& r) const {
       const Corner o = mesh.opposite(c);
       if (o.is_valid() && o.idx < c.idx) continue;  // counted at o, its length in len[c]
       const double le = mesh_.length(mesh.edge_from(c), mesh.edge_to(c));
-      len[c.idx] = le;
-      if (o.is_valid()) len[o.idx] = le;
+      len[c.idx] = static_cast<float>(le);
+      if (o.is_valid()) len[o.idx] = static_cast<float>(le);
       ++r.edges;
       r.length_min = std::min(r.length_min, le);
       r.length_max = std::max(r.length_max, le);
@@ -377,6 +412,10 @@ PassReport Remesher::step(PassKind kind, const PassReport* previous) {
     case PassKind::Final: final_pass(r); break;
   }
   r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  for (int v : r.touched) touched_mark_[static_cast<std::size_t>(v)] = 0;
+  // The heap's storage is kept for the next pass unless it grew large (the
+  // first refinement passes): memory goes back while the mesh is big.
+  if (heap_.capacity() > 65536) std::vector<EdgeItem>().swap(heap_);
   if (previous && r.changes() == 0) {
     // Every change of the mesh is counted: a pass without any left the
     // state of the previous one (within run(), nothing else touches the mesh).

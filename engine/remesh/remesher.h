@@ -41,6 +41,9 @@ struct RemeshOptions {
   // `relaxation_stages` relaxed metrics (ControlSpace::set_relaxation with
   // t = 1/(n+1) ... n/(n+1)), then to the target. 0: off.
   int relaxation_stages = 0;
+  // PassReport::touched is filled (the editor shows it); off saves 4 bytes
+  // per touched vertex and pass for batch runs.
+  bool record_touched = true;
 };
 
 enum class PassKind { Split, Collapse, Swap, Smooth, Final };
@@ -65,7 +68,9 @@ struct PassReport {
   double length_min = 0, length_max = 0;
   double q_min = 0, q_mean = 0;
   double seconds = 0;
-  // Vertex slots created, kept or moved by the pass (the elements it touched).
+  // Vertex slots created, kept or moved by the pass (the elements it
+  // touched), each once, in the order of their first change; empty when
+  // RemeshOptions::record_touched is off.
   std::vector<int> touched;
   int changes() const { return splits + collapses + swaps + moves + removed_vertices; }
 };
@@ -117,8 +122,11 @@ class Remesher {
   // next swap and smoothing passes (which only visit marked vertices: the
   // first ones, and the final optimisation, visit all).
   void touch(PassReport& r, Vertex v);
+  void record_touched(PassReport& r, Vertex v);
   void mark(Vertex v);
   void mark_all();
+  // Reserves the mesh arrays for the size the target metric asks for.
+  void reserve_for_metric();
 
   AdaptedMesh& mesh_;
   RemeshOptions options_;
@@ -127,7 +135,7 @@ class Remesher {
   std::vector<std::uint8_t> swap_active_, smooth_active_;  // per vertex slot
   int iteration_ = 0;
   std::vector<EdgeItem> heap_;  // split / collapse passes: the heap's storage
-  mutable std::vector<double> edge_length_scratch_;  // fill_state: one length per corner
+  std::vector<std::uint8_t> touched_mark_;  // per vertex slot: in the pass's touched list
 };
 
 }  // namespace anisurf::remesh
