@@ -130,6 +130,8 @@ int run_adapt(const std::vector<std::string>& args) {
   ro.record_touched = !report_path.empty();  // only the JSON report counts them
   std::string verb = p.option("-v", "--verbose");
   const int verbose = verb.empty() ? 1 : std::atoi(verb.c_str());
+  // Every pass's state is printed (-v 2) or written (--report); else the round's last one.
+  ro.measure_every_pass = verbose >= 2 || !report_path.empty();
   auto pos = p.positionals();
   if (in.empty() && !pos.empty()) {
     in = pos.front();

@@ -16,7 +16,7 @@ AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, Control
   for (const char* n : {"remesh:metric", "remesh:normal", "remesh:on_surface", "remesh:hint_g", "remesh:hint_0"})
     props.remove(n);
   metric_ = mesh_.add_vertex_property<SymTensor3>("remesh:metric", SymTensor3::identity());
-  normal_ = mesh_.add_vertex_property<Vec3>("remesh:normal");
+  normal_ = mesh_.add_vertex_property<std::array<float, 3>>("remesh:normal");
   on_surface_ = mesh_.add_vertex_property<std::uint8_t>("remesh:on_surface", 1);
   hint_g_ = mesh_.add_vertex_property<Hint>("remesh:hint_g");
   hint_0_ = mesh_.add_vertex_property<Hint>("remesh:hint_0");
@@ -129,7 +129,7 @@ void AdaptedMesh::refresh_values() {
 Placement AdaptedMesh::current(Vertex v) const {
   Placement p;
   p.position = mesh_.position(v);
-  p.normal = normal_[v];
+  p.normal = surface_normal(v);
   p.on_surface = on_surface_[v] != 0;
   p.hint_g = hint_g_[v];
   p.hint_0 = hint_0_[v];
@@ -140,7 +140,7 @@ Placement AdaptedMesh::current(Vertex v) const {
 
 void AdaptedMesh::commit(Vertex v, const Placement& p) {
   mesh_.position(v) = p.position;
-  normal_[v] = p.normal;
+  normal_[v] = {static_cast<float>(p.normal.x), static_cast<float>(p.normal.y), static_cast<float>(p.normal.z)};
   on_surface_[v] = p.on_surface ? 1 : 0;
   hint_g_[v] = p.hint_g;
   hint_0_[v] = p.hint_0;

@@ -67,7 +67,10 @@ class AdaptedMesh {
 
   const SymTensor3& metric(Vertex v) const { return metric_[v]; }
   // Unit surface normal at v's location (zero on feature curves and corners).
-  const Vec3& surface_normal(Vertex v) const { return normal_[v]; }
+  Vec3 surface_normal(Vertex v) const {
+    const auto& n = normal_[v];
+    return {n[0], n[1], n[2]};
+  }
   // False for a vertex left off the surface (a split at the straight
   // midpoint); the next move of the vertex projects it.
   bool on_surface(Vertex v) const { return on_surface_[v] != 0; }
@@ -112,7 +115,7 @@ class AdaptedMesh {
   ControlSpace& control_;
   LengthFormula length_;
   Property<SymTensor3> metric_;
-  Property<Vec3> normal_;
+  Property<std::array<float, 3>> normal_;  // single precision: an angle reference, 12 bytes per vertex
   Property<std::uint8_t> on_surface_;
   Property<Hint> hint_g_, hint_0_;
   std::vector<Property<FieldValue>> solution_;

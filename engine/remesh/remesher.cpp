@@ -179,6 +179,22 @@ int Remesher::local_swaps(Vertex v, PassReport& r) {
 }
 
 void Remesher::split_pass(PassReport& r) {
+  if (!options_.split_by_generation) {
+    split_generation(r, true);
+    return;
+  }
+  // Generations: every edge longer than lmax now, longest first, without the
+  // swaps in between; then a swap sweep around what changed, which turns
+  // the triangles whose three edges were split into 1:4 subdivisions; again
+  // with the long edges left, until none is.
+  for (int generation = 0; generation < 64; ++generation) {
+    if (split_generation(r, false) == 0) break;
+    if (options_.local_swaps) swap_pass(r);
+
+  }
+}
+
+int Remesher::split_generation(PassReport& r, bool follow_new_edges) {
   SurfaceMesh& mesh = mesh_.mesh();
   const OperatorOptions& o = options_.op;
   EdgeHeap<Longer> heap(heap_);
@@ -187,8 +203,11 @@ void Remesher::split_pass(PassReport& r) {
     const double l = mesh_.length(a, b);
     if (l > o.lmax) heap.push({l, a.idx, b.idx});
   });
-  long long budget = 20LL * mesh.n_triangles() + 1000;
-  while (!heap.empty() && budget-- > 0) {
+  // A guard against cycles that grows with the mesh (a refinement multiplies
+  // the triangles many times over in one pass).
+  long long pops = 0;
+  int changes = 0;
+  while (!heap.empty() && pops++ < 20LL * mesh.n_triangles() + 1000) {
     const EdgeItem it = heap.pop();
     const Vertex a(it.a), b(it.b);
     const Corner c = find_edge_corner(mesh, a, b);
@@ -203,6 +222,7 @@ void Remesher::split_pass(PassReport& r) {
       ++r.rejected[static_cast<int>(plan.why)];
       continue;
     }
+    ++changes;
     if (plan.swap_instead) {  // figure 14: a swap instead of the split
       const Corner d = swap(mesh_, c);
       ++r.swaps;
@@ -214,13 +234,15 @@ void Remesher::split_pass(PassReport& r) {
     ++r.splits;
     if (!plan.projected) ++r.split_unprojected;
     remember(PassKind::Split, v);
-    local_swaps(v, r);
     touch(r, v);
+    if (!follow_new_edges) continue;
+    local_swaps(v, r);
     for (Vertex w : one_ring(mesh, v)) {
       const double l = mesh_.length(v, w);
       if (l > o.lmax) heap.push({l, v.idx, w.idx});
     }
   }
+  return changes;
 }
 
 void Remesher::collapse_pass(PassReport& r) {
@@ -357,23 +379,20 @@ void Remesher::fill_state(PassReport& r) const {
   int in_band = 0;
   r.q_min = 1;
   double sum = 0;
-  // One sweep over the triangles, one length per edge: computed at its
-  // canonical corner (the smaller of the two, so met first), kept for the
-  // other corner, and the quality of each triangle from its three lengths
-  // (the edge of corner k runs from vertex k + 1 to k + 2).
-  // (Single precision, alive only here: 12 bytes per triangle slot.)
-  std::vector<float> lengths(static_cast<std::size_t>(3 * mesh.triangle_capacity()));
-  float* len = lengths.data();
+  // One sweep over the triangles, the three lengths of each (every edge is
+  // measured from both sides: no array of lengths, whose memory would add
+  // to the peak of a large refinement); an edge is counted at its canonical
+  // corner (the edge of corner k runs from vertex k + 1 to k + 2).
   for (int t = 0; t < mesh.triangle_capacity(); ++t) {
     const Triangle tr(t);
     if (mesh.is_deleted(tr)) continue;
+    std::array<double, 3> len;
     for (int k = 0; k < 3; ++k) {
       const Corner c = M::corner(tr, k);
-      const Corner o = mesh.opposite(c);
-      if (o.is_valid() && o.idx < c.idx) continue;  // counted at o, its length in len[c]
       const double le = mesh_.length(mesh.edge_from(c), mesh.edge_to(c));
-      len[c.idx] = static_cast<float>(le);
-      if (o.is_valid()) len[o.idx] = static_cast<float>(le);
+      len[static_cast<std::size_t>(k)] = le;
+      const Corner o = mesh.opposite(c);
+      if (o.is_valid() && o.idx < c.idx) continue;  // counted at o
       ++r.edges;
       r.length_min = std::min(r.length_min, le);
       r.length_max = std::max(r.length_max, le);
@@ -382,7 +401,7 @@ void Remesher::fill_state(PassReport& r) const {
       ++r.histogram[bin];
       if (le >= kLengthBins[2] && le <= kLengthBins[5]) ++in_band;
     }
-    const double q = quality_from_lengths(len[3 * t + 2], len[3 * t], len[3 * t + 1]);
+    const double q = quality_from_lengths(len[2], len[0], len[1]);
     r.q_min = std::min(r.q_min, q);
     sum += q;
   }
@@ -397,9 +416,9 @@ PassReport Remesher::measure() const {
   return r;
 }
 
-PassReport Remesher::step(PassKind kind) { return step(kind, nullptr); }
+PassReport Remesher::step(PassKind kind) { return step(kind, nullptr, true); }
 
-PassReport Remesher::step(PassKind kind, const PassReport* previous) {
+PassReport Remesher::step(PassKind kind, const PassReport* previous, bool measure) {
   const auto t0 = Clock::now();
   PassReport r;
   r.kind = kind;
@@ -416,7 +435,11 @@ PassReport Remesher::step(PassKind kind, const PassReport* previous) {
   // The heap's storage is kept for the next pass unless it grew large (the
   // first refinement passes): memory goes back while the mesh is big.
   if (heap_.capacity() > 65536) std::vector<EdgeItem>().swap(heap_);
-  if (previous && r.changes() == 0) {
+  if (!measure) {
+    r.measured = false;
+    r.vertices = mesh_.mesh().n_vertices();
+    r.triangles = mesh_.mesh().n_triangles();
+  } else if (previous && previous->measured && r.changes() == 0) {
     // Every change of the mesh is counted: a pass without any left the
     // state of the previous one (within run(), nothing else touches the mesh).
     r.vertices = previous->vertices;
@@ -444,8 +467,11 @@ std::vector<PassReport> Remesher::run(const std::function<void(const PassReport&
     last = &out.back();
     return out.back().changes();
   };
-  // The state of a pass without changes is the previous one's.
-  auto step = [&](PassKind kind) { return this->step(kind, last); };  // before `out` grows
+  // The state of a pass without changes is the previous one's. Without
+  // measure_every_pass only the last pass of a round is measured.
+  auto step = [&](PassKind kind, bool round_end = true) {
+    return this->step(kind, last, round_end || options_.measure_every_pass);  // before `out` grows
+  };
   if (options_.initial_swaps) record(step(PassKind::Swap));
   const int stages = std::max(0, options_.relaxation_stages);
   ControlSpace& control = mesh_.control();
@@ -458,10 +484,11 @@ std::vector<PassReport> Remesher::run(const std::function<void(const PassReport&
     }
     const int first = iteration_ + 1;
     for (++iteration_; iteration_ < first + options_.max_iterations; ++iteration_) {
-      const int s = record(step(PassKind::Split));
-      const int c = record(step(PassKind::Collapse));
-      record(step(PassKind::Swap));
-      for (int p = 0; p < options_.smoothing_passes; ++p) record(step(PassKind::Smooth));
+      const int smooth = std::max(0, options_.smoothing_passes);
+      const int s = record(step(PassKind::Split, false));
+      const int c = record(step(PassKind::Collapse, false));
+      record(step(PassKind::Swap, smooth == 0));
+      for (int p = 0; p < smooth; ++p) record(step(PassKind::Smooth, p + 1 == smooth));
       if (s + c <= options_.converged_share * mesh_.mesh().n_vertices()) break;
     }
   }
