@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cli/progress.h"
+#include "test_util.h"
 
 using namespace anisurf;
 using namespace anisurf::cli;
@@ -20,30 +21,7 @@ int count(const std::string& s, char c) {
   return n;
 }
 
-// What a terminal shows after `text`: '\r' returns to the line's start and
-// overwrites, '\n' starts a new line. Trailing spaces are dropped.
-std::vector<std::string> render(const std::string& text) {
-  std::vector<std::string> lines(1);
-  std::size_t col = 0;
-  for (char c : text) {
-    if (c == '\r') {
-      col = 0;
-    } else if (c == '\n') {
-      lines.emplace_back();
-      col = 0;
-    } else {
-      std::string& l = lines.back();
-      if (col < l.size())
-        l[col] = c;
-      else
-        l.push_back(c);
-      ++col;
-    }
-  }
-  for (auto& l : lines)
-    while (!l.empty() && l.back() == ' ') l.pop_back();
-  return lines;
-}
+using test::render_terminal;
 
 // A run of `rounds` rounds (split, collapse, swap, smooth) after the initial
 // swaps, then the final pass; vertices grow by 1000 per round.
@@ -228,7 +206,7 @@ TEST_CASE("progress display, not a terminal: one line per round and the final on
   CHECK(count(out, '\n') == 4);
   REQUIRE(!out.empty());
   CHECK(out.back() == '\n');
-  const auto lines = render(out);
+  const auto lines = render_terminal(out);
   REQUIRE(lines.size() == 5);
   CHECK(lines[0].rfind("   1 round    split   1000 collapse    100 swap    500 move    2000 | V    2000", 0) == 0);
   CHECK(lines[0].find("1.00 s  3.6k op/s") != std::string::npos);  // 3600 operations in 4 passes of 0.25 s
@@ -255,8 +233,8 @@ TEST_CASE("progress display, terminal: a live line rewritten after every pass, e
   // On screen: the same lines as without a terminal, the live line gone.
   ProgressOptions pipe = o;
   pipe.terminal = false;
-  CHECK(render(out) == render(play(pipe, 3)));
-  for (const auto& l : render(out)) CHECK(l.find("op/s  ") == std::string::npos);  // (only the live line has "op/s  ")
+  CHECK(render_terminal(out) == render_terminal(play(pipe, 3)));
+  for (const auto& l : render_terminal(out)) CHECK(l.find("op/s  ") == std::string::npos);  // (only the live line has "op/s  ")
 }
 
 TEST_CASE("progress display: the live line waits for live_delay; -v 0 prints nothing, -v 2 one line per pass") {
@@ -280,7 +258,7 @@ TEST_CASE("progress display: the live line waits for live_delay; -v 0 prints not
   const std::string passes = play(o, 3);
   CHECK(count(passes, '\r') == 0);
   CHECK(count(passes, '\n') == 14);  // initial swap, 3 x 4 passes, final
-  const auto lines = render(passes);
+  const auto lines = render_terminal(passes);
   CHECK(lines[0].rfind("   0 swap ", 0) == 0);
   CHECK(lines[2].rfind("   1 collapse ", 0) == 0);
   CHECK(lines[13].rfind("   4 final ", 0) == 0);

@@ -65,6 +65,7 @@ const char* kAdaptHelp =
     "  -v N                 verbosity on stderr: 0 quiet, 1 per round (default), 2 per\n"
     "                       pass; at 1 on a terminal, a live line (round, pass, counts,\n"
     "                       vertices against the metric's prediction, op/s) after each pass\n"
+    "                       once the run has lasted ANISURF_PROGRESS_DELAY s (default 0.5)\n"
     "  -o OUT | -out OUT    output mesh (required); the metric goes to OUT.sol\n"
     "\n"
     "examples:\n"
@@ -234,6 +235,7 @@ int run_adapt(const std::vector<std::string>& args) {
   po.verbose = verbose;
   po.terminal = isatty(STDERR_FILENO) != 0;
   po.columns = terminal_columns();
+  if (const char* d = std::getenv("ANISURF_PROGRESS_DELAY"); d && *d) po.live_delay = std::atof(d);
   po.predicted_vertices = predicted_vertex_count(metric_complexity(control.mesh(), control.target_metric()));
   const remesh::PassReport initial = remesher.measure();
   const int inverted_before = adapted.count_inverted();
