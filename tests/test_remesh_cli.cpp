@@ -150,3 +150,109 @@ TEST_CASE("anisurf adapt --geometry: the coarse hemisphere (T_0) adapted on the 
   CHECK(worst < 1e-5);
   CHECK(lowest > -1e-6);  // the rim stays in its plane
 }
+
+namespace {
+
+// Lines of `text` starting with `prefix` (after the leading spaces) ... counted.
+int count_lines(const std::vector<std::string>& lines, const std::string& word) {
+  int n = 0;
+  for (const auto& l : lines) {
+    const auto first = l.find_first_not_of(' ');
+    if (first == std::string::npos) continue;
+    const auto space = l.find(' ', first);  // after the round number
+    if (space != std::string::npos && l.compare(space + 1, word.size(), word) == 0) ++n;
+  }
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("anisurf adapt progress, stderr to a pipe: one line per round with its rate, never a '\\r'; -v 0 and -v 2") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
+  const auto dir = test::temp_dir("adapt_progress_pipe");
+  const std::string out = (dir / "out.mesh").string(), report = (dir / "report.json").string();
+  const std::string cmd = "ANISURF_PROGRESS_DELAY=0 " + std::string(ANISURF_BINARY) + " adapt '" + mesh + "' -sol '" +
+                          sol + "' -o '" + out + "' --report '" + report + "'";
+  int status = -1;
+  // stderr into the pipe, stdout (the summary table) away.
+  const std::string err = capture(cmd + " 2>&1 >/dev/null", &status);
+  REQUIRE(status == 0);
+  CHECK(err.find('\r') == std::string::npos);  // not a terminal: no live line, even with no delay
+  REQUIRE(!err.empty());
+  CHECK(err.back() == '\n');
+  std::ifstream in(report);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  int rounds = 0;
+  for (const auto& p : j["passes"]) rounds = std::max(rounds, p["iteration"].get<int>());
+  const auto lines = test::render_terminal(err);
+  REQUIRE(lines.size() >= 3);
+  CHECK(lines.front().rfind("adapt: ", 0) == 0);
+  CHECK(count_lines(lines, "round ") == rounds);
+  CHECK(rounds >= 2);
+  for (const auto& l : lines)
+    if (l.find(" round ") != std::string::npos) {
+      CAPTURE(l);
+      CHECK(l.find(" split ") != std::string::npos);
+      CHECK(l.find(" op/s") == l.size() - 5);  // the rate ends the line
+    }
+  CHECK(count_lines(lines, "final ") == 1);
+  CHECK(lines[lines.size() - 2].find(" final ") != std::string::npos);
+  CHECK(lines.back().empty());
+
+  // -v 0: nothing on stderr; the summary table still on stdout.
+  std::string quiet_out = capture(cmd + " -v 0 2>" + (dir / "quiet.err").string(), &status);
+  REQUIRE(status == 0);
+  CHECK(quiet_out.find("in band") != std::string::npos);
+  CHECK(std::filesystem::file_size(dir / "quiet.err") == 0);
+
+  // -v 2: one line per pass, each with its rate.
+  const std::string passes = capture(cmd + " -v 2 2>&1 >/dev/null", &status);
+  REQUIRE(status == 0);
+  CHECK(passes.find('\r') == std::string::npos);
+  int rated = 0;
+  for (const auto& l : test::render_terminal(passes)) rated += l.find(" op/s") != std::string::npos;
+  CHECK(rated == static_cast<int>(j["passes"].size()));
+}
+
+TEST_CASE("anisurf adapt progress on a terminal (script's pseudo-terminal): a live line rewritten with '\\r', erased at the end") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
+  if (std::system("script -qec true /dev/null </dev/null >/dev/null 2>&1") != 0) {
+    MESSAGE("skipped: no `script` (util-linux) to run under a pseudo-terminal");
+    return;
+  }
+  const auto dir = test::temp_dir("adapt_progress_tty");
+  const std::string out = (dir / "out.mesh").string();
+  // Only stderr reaches the terminal; no delay (the hemisphere takes 0.1 s).
+  const std::string inner = std::string(ANISURF_BINARY) + " adapt '" + mesh + "' -sol '" + sol + "' -o '" + out +
+                            "' >/dev/null";
+  int status = -1;
+  std::string tty = capture("ANISURF_PROGRESS_DELAY=0 COLUMNS=100 script -qec \"" + inner + "\" /dev/null </dev/null", &status);
+  REQUIRE(status == 0);
+  // The terminal writes '\n' as "\r\n"; what is left are the live line's '\r'.
+  std::string text;
+  for (std::size_t i = 0; i < tty.size(); ++i)
+    if (!(tty[i] == '\r' && i + 1 < tty.size() && tty[i + 1] == '\n')) text += tty[i];
+  CAPTURE(text);
+  CHECK(text.find("\rinitial swap ") != std::string::npos);
+  CHECK(text.find("\rround 1 split    [") != std::string::npos);
+  CHECK(text.find("\rround 2 smooth   [") != std::string::npos);
+  int updates = 0;
+  for (std::size_t i = 0; i + 5 < text.size(); ++i) updates += text.compare(i, 6, "\rround") == 0;
+  CHECK(updates >= 8);  // every pass of the rounds
+  REQUIRE(!text.empty());
+  CHECK(text.back() == '\n');
+  // On screen at the end: the setup line, the round lines, the final line; the live line erased.
+  const auto lines = test::render_terminal(text);
+  REQUIRE(lines.size() >= 4);
+  CHECK(lines.front().rfind("adapt: ", 0) == 0);
+  CHECK(lines[lines.size() - 2].find(" final ") != std::string::npos);
+  CHECK(lines.back().empty());
+  for (const auto& l : lines) {
+    CAPTURE(l);
+    CHECK(l.rfind("round ", 0) == std::string::npos);
+    CHECK(l.size() < 200);
+  }
+  CHECK(count_lines(lines, "round ") >= 2);
+}

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace anisurf::test {
 
@@ -41,6 +42,32 @@ inline std::string capture(const std::string& cmd, int* exit_code = nullptr) {
   const int status = pclose(f);
   if (exit_code) *exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return out;
+}
+
+// The lines a terminal shows after `text`: '\r' returns to the start of the
+// line and overwrites, '\n' (or "\r\n") starts a new line; trailing spaces
+// dropped. The last element is what follows the last '\n'.
+inline std::vector<std::string> render_terminal(const std::string& text) {
+  std::vector<std::string> lines(1);
+  std::size_t col = 0;
+  for (char c : text) {
+    if (c == '\r') {
+      col = 0;
+    } else if (c == '\n') {
+      lines.emplace_back();
+      col = 0;
+    } else {
+      std::string& l = lines.back();
+      if (col < l.size())
+        l[col] = c;
+      else
+        l.push_back(c);
+      ++col;
+    }
+  }
+  for (auto& l : lines)
+    while (!l.empty() && l.back() == ' ') l.pop_back();
+  return lines;
 }
 
 }  // namespace anisurf::test

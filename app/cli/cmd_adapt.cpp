@@ -7,14 +7,19 @@
 #include <filesystem>
 #include <iostream>
 
+#include <sys/ioctl.h>
+#include <unistd.h>
+
 #include "cli/cli.h"
 #include "cli/metric_options.h"
+#include "cli/progress.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "geometry/features.h"
 #include "io/mesh_io.h"
 #include "metric/hessian.h"
 #include "metric/metric_field.h"
+#include "metric/surface_metric.h"
 #include "remesh/remesher.h"
 
 namespace anisurf::cli {
@@ -57,12 +62,23 @@ const char* kAdaptHelp =
     "  --relax N            Remark 6: adapt first to N relaxed metrics between the\n"
     "                       input mesh's sizes and the target (default 0: off)\n"
     "  --report FILE        per-pass report (JSON)\n"
-    "  -v N                 verbosity: 0 quiet, 1 per round (default), 2 per pass\n"
+    "  -v N                 verbosity on stderr: 0 quiet, 1 per round (default), 2 per\n"
+    "                       pass; at 1 on a terminal, a live line (round, pass, counts,\n"
+    "                       vertices against the metric's prediction, op/s) after each pass\n"
+    "                       once the run has lasted ANISURF_PROGRESS_DELAY s (default 0.5)\n"
     "  -o OUT | -out OUT    output mesh (required); the metric goes to OUT.sol\n"
     "\n"
     "examples:\n"
     "  anisurf adapt sphere.mesh -sol sphere_iso.sol -o out.mesh\n"
     "  mmgs-style: anisurf adapt -in sphere.mesh -sol band.sol -hgrad -1 -out out.mesh\n";
+
+// Width of the terminal on stderr (COLUMNS, else 80, when unknown).
+int terminal_columns() {
+  winsize ws{};
+  if (ioctl(STDERR_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 0) return ws.ws_col;
+  if (const char* c = std::getenv("COLUMNS"); c && std::atoi(c) > 0) return std::atoi(c);
+  return 80;
+}
 
 std::string sol_path_for(const std::string& mesh_path) {
   std::filesystem::path p(mesh_path);
@@ -215,42 +231,30 @@ int run_adapt(const std::vector<std::string>& args) {
                  geometry->name().c_str(), t_setup);
 
   remesh::Remesher remesher(adapted, ro);
-  // Progress: every pass (-v 2) or one line per round with its sums (-v 1).
-  remesh::PassReport round;
-  const auto print = [](const remesh::PassReport& r, const char* what) {
-    std::fprintf(stderr,
-                 "  %2d %-8s split %6d collapse %6d swap %6d move %7d | V %7d T %7d  in band %5.1f%%  q %.3f/%.3f  "
-                 "%.2f s\n",
-                 r.iteration, what, r.splits, r.collapses, r.swaps, r.moves, r.vertices, r.triangles,
-                 100 * r.in_band_share, r.q_min, r.q_mean, r.seconds);
-  };
-  const auto progress = [&](const remesh::PassReport& r) {
-    if (verbose >= 2) print(r, std::string(remesh::pass_name(r.kind)).c_str());
-    if (verbose != 1) return;
-    if (r.kind == remesh::PassKind::Final) {
-      if (round.iteration > 0) print(round, "round");
-      print(r, "final");
-      return;
-    }
-    if (r.iteration != round.iteration) {
-      if (round.iteration > 0) print(round, "round");
-      round = remesh::PassReport{};
-      round.iteration = r.iteration;
-    }
-    round.splits += r.splits;
-    round.collapses += r.collapses;
-    round.swaps += r.swaps;
-    round.moves += r.moves + r.removed_vertices;
-    round.seconds += r.seconds;
-    round.vertices = r.vertices;
-    round.triangles = r.triangles;
-    round.in_band_share = r.in_band_share;
-    round.q_min = r.q_min;
-    round.q_mean = r.q_mean;
-  };
+  // Progress on stderr (cli/progress.h): one line per round (-v 1) or per pass
+  // (-v 2); on a terminal, a live line below them rewritten after every pass.
+  ProgressOptions po;
+  po.verbose = verbose;
+  po.terminal = isatty(STDERR_FILENO) != 0;
+  po.columns = terminal_columns();
+  if (const char* d = std::getenv("ANISURF_PROGRESS_DELAY"); d && *d) po.live_delay = std::atof(d);
+  po.predicted_vertices = predicted_vertex_count(metric_complexity(control.mesh(), control.target_metric()));
   const remesh::PassReport initial = remesher.measure();
   const int inverted_before = adapted.count_inverted();
-  const std::vector<remesh::PassReport> passes = remesher.run(progress);
+  std::vector<remesh::PassReport> passes;
+  double run_seconds = 0;
+  {
+    ProgressDisplay display(po, [](std::string_view text) {
+      std::fwrite(text.data(), 1, text.size(), stderr);
+      std::fflush(stderr);
+    });
+    const auto t_run = Clock::now();
+    passes = remesher.run([&](const remesh::PassReport& r) {
+      display.pass(r, std::chrono::duration<double>(Clock::now() - t_run).count());
+    });
+    display.finish();
+    run_seconds = std::chrono::duration<double>(Clock::now() - t_run).count();
+  }
   const remesh::PassReport final_state = remesher.measure();
   const int inverted = adapted.count_inverted();
 
@@ -310,7 +314,8 @@ int run_adapt(const std::vector<std::string>& args) {
     f.commit();
   }
   std::printf("                 input      output\n");
-  std::printf("vertices     %9d   %9d\n", initial.vertices, final_state.vertices);
+  std::printf("vertices     %9d   %9d   (the metric predicts ~%.0f: 2 C / sqrt 3)\n", initial.vertices,
+              final_state.vertices, po.predicted_vertices);
   std::printf("triangles    %9d   %9d\n", initial.triangles, final_state.triangles);
   std::printf("in band      %8.1f%%   %8.1f%%   (edges with metric length in [0.71, 1.41])\n",
               100 * initial.in_band_share, 100 * final_state.in_band_share);
@@ -321,6 +326,8 @@ int run_adapt(const std::vector<std::string>& args) {
   std::printf("inverted     %9d   %9d   (triangles facing against the surface normal)\n", inverted_before, inverted);
   std::printf("operations   %d splits, %d collapses, %d swaps, %d moves, %d removed (valence < 4)\n", splits,
               collapses, swaps, moves, removed);
+  std::printf("remeshing    %.2f s, %s operations per second\n", run_seconds,
+              format_rate(splits + collapses + swaps + moves + removed, run_seconds).c_str());
   std::printf("written      %s, %s (%.2f s)\n", out.c_str(), out_sol.c_str(), seconds);
   return 0;
 }
