@@ -3,6 +3,8 @@
 // fixed and feature vertices are respected, and whole runs reach the metric.
 #include <doctest/doctest.h>
 
+#include <stdexcept>
+
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -409,6 +411,62 @@ TEST_CASE("remesh: Remark 6 relaxation: intermediate metrics between the mesh's 
   const PassReport after = r.measure();
   CHECK(after.in_band_share > 0.95);
   CHECK(after.q_min > 0.3);
+}
+
+TEST_CASE("remesh: run() is advance() until finished; a stopped run resumes; snapshots of the schedule resume it") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
+  RemeshOptions o;
+  o.op.lmin = 0.72;
+  o.relaxation_stages = 1;
+  // Reference: one run().
+  auto ref = make_setup(mesh, sol, 0, true);
+  Remesher r_ref(*ref->adapted, o);
+  const std::vector<PassReport> all = r_ref.run();
+  REQUIRE(all.size() > 6);
+  CHECK(all.front().kind == PassKind::Swap);
+  CHECK(all.back().kind == PassKind::Final);
+  CHECK(r_ref.finished());
+  CHECK(r_ref.schedule().stage == 1);  // both stages ran
+  CHECK_THROWS_AS(r_ref.advance(), std::logic_error);
+
+  // The same schedule a pass at a time, stopped after 5 passes and resumed.
+  auto s = make_setup(mesh, sol, 0, true);
+  Remesher r(*s->adapted, o);
+  int seen = 0;
+  std::vector<PassReport> got = r.run([&](const PassReport&) { ++seen; }, [&] { return seen == 5; });
+  CHECK(got.size() == 5);
+  CHECK(!r.finished());
+  while (!r.finished()) {
+    const PassKind planned = r.next_pass();
+    got.push_back(r.advance());
+    CHECK(got.back().kind == planned);
+  }
+  REQUIRE(got.size() == all.size());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    CAPTURE(i);
+    CHECK(got[i].kind == all[i].kind);
+    CHECK(got[i].iteration == all[i].iteration);
+    CHECK(got[i].changes() == all[i].changes());
+    CHECK(got[i].vertices == all[i].vertices);
+  }
+
+  // A copy of the mesh and of the schedule mid-run: a new remesher resumes
+  // the schedule there (the relaxed metric of the stage set again) and ends it.
+  auto t = make_setup(mesh, sol, 0, true);
+  Remesher first(*t->adapted, o);
+  for (int i = 0; i < 6; ++i) first.advance();
+  const Schedule mid = first.schedule();
+  CHECK(mid.phase == Schedule::Phase::Round);
+  AdaptedMesh copy(t->adapted->mesh(), *t->geometry, *t->control);
+  Remesher second(copy, o);
+  second.set_schedule(mid);
+  CHECK(second.next_pass() == first.next_pass());
+  second.run();
+  CHECK(second.finished());
+  check_state(copy, "resumed run");
+  CHECK(second.measure().in_band_share > 0.95);
+  CHECK(t->control->metric()[0] == t->control->target_metric()[0]);  // the last stage is the target
 }
 
 TEST_CASE("remesh: Remark 5 cache: the edges of the last 10 modifications are protected from being undone") {

@@ -75,43 +75,6 @@ void Adaptation::start(std::size_t from, int max_passes) {
   worker_ = std::thread([this, from, max_passes] { work(from, max_passes); });
 }
 
-PassKind Adaptation::next_kind(const Schedule& s) const {
-  switch (s.phase) {
-    case Schedule::Phase::Initial: return PassKind::Swap;
-    case Schedule::Phase::Round: {
-      static constexpr PassKind order[3] = {PassKind::Split, PassKind::Collapse, PassKind::Swap};
-      return s.pass < 3 ? order[s.pass] : PassKind::Smooth;
-    }
-    default: return PassKind::Final;
-  }
-}
-
-void Adaptation::advance(Schedule& s, const remesh::PassReport& r, int n_vertices) const {
-  const auto& o = settings_.remesh;
-  switch (s.phase) {
-    case Schedule::Phase::Initial:
-      s = Schedule{Schedule::Phase::Round, 1, 0, 0};
-      break;
-    case Schedule::Phase::Round:
-      if (r.kind == PassKind::Split || r.kind == PassKind::Collapse) s.round_changes += r.splits + r.collapses;
-      if (++s.pass >= 3 + o.smoothing_passes) {
-        const bool converged = s.round_changes <= settings_.converged_share * n_vertices;
-        if (converged || s.round >= o.max_iterations) {
-          s.phase = Schedule::Phase::Final;
-        } else {
-          ++s.round;
-          s.pass = 0;
-          s.round_changes = 0;
-        }
-      }
-      break;
-    case Schedule::Phase::Final:
-    case Schedule::Phase::Done:
-      s.phase = Schedule::Phase::Done;
-      break;
-  }
-}
-
 void Adaptation::rebuild_from(const Snapshot& s) {
   if (!geometry_) {
     geometry_ = geometry_future_.valid() ? geometry_future_.get() : start_geometry(input_, settings_).get();
@@ -121,7 +84,7 @@ void Adaptation::rebuild_from(const Snapshot& s) {
   adapted_.reset();
   adapted_ = std::make_unique<remesh::AdaptedMesh>(s.mesh, *geometry_, *control_);
   remesher_ = std::make_unique<remesh::Remesher>(*adapted_, settings_.remesh);
-  schedule_ = s.schedule;
+  remesher_->set_schedule(s.schedule);
 }
 
 void Adaptation::work(std::size_t from, int max_passes) {
@@ -140,20 +103,18 @@ void Adaptation::work(std::size_t from, int max_passes) {
     }
     if (built_from_ != from || !remesher_) rebuild_from(*start);
     for (int done = 0; (max_passes <= 0 || done < max_passes) && !stop_; ++done) {
-      if (schedule_.phase == Schedule::Phase::Done) break;
-      const PassKind kind = next_kind(schedule_);
-      remesh::PassReport r = remesher_->step(kind);
-      r.iteration = schedule_.round;
+      if (remesher_->finished()) break;
+      remesh::PassReport r = remesher_->advance();
+      const PassKind kind = r.kind;
       const auto t0 = Clock::now();
       const SurfaceMesh& m = adapted_->mesh();
-      advance(schedule_, r, m.n_vertices());
       auto snap = std::make_shared<Snapshot>();
       snap->mesh = m;
       snap->metric.resize(static_cast<std::size_t>(m.vertex_capacity()));
       for (int v = 0; v < m.vertex_capacity(); ++v)
         snap->metric[v] = m.is_deleted(Vertex(v)) ? SymTensor3::identity(1.0) : adapted_->metric(Vertex(v));
       snap->has_report = true;
-      snap->schedule = schedule_;
+      snap->schedule = remesher_->schedule();
       snap->label = (r.iteration > 0 ? std::to_string(r.iteration) + " " : std::string()) +
                     std::string(remesh::pass_name(kind));
       snap->report = std::move(r);

@@ -1,10 +1,8 @@
 // The adaptation of the editor: the remesher of engine/remesh driven pass by
-// pass in a worker thread, with a snapshot of the mesh after every pass (the
-// timeline the Adaptation panel scrubs). The schedule is Remesher::run()'s
-// (initial swaps; rounds of split, collapse, swap, smoothing until a round
-// changes at most a small share of the vertices; the final optimisation),
-// kept here as explicit state so that a run can pause after any pass,
-// resume, or restart from any snapshot.
+// pass in a worker thread (Remesher::advance(): run()'s schedule, relaxation
+// stages included), with a snapshot of the mesh and of the schedule after
+// every pass (the timeline the Adaptation panel scrubs), so that a run can
+// pause after any pass, resume, or restart from any snapshot.
 #pragma once
 #include <atomic>
 #include <condition_variable>
@@ -30,18 +28,9 @@ struct AdaptSettings {
     return o;
   }();
   bool g1_surface = true;            // project on the G1 Bezier surface (else the polyhedral one)
-  double converged_share = 0.005;    // a round splitting + collapsing <= this share of the vertices ends the loop
 };
 
-// Where the schedule stands (saved in every snapshot, so a restart from a
-// snapshot continues the same schedule).
-struct Schedule {
-  enum class Phase { Initial, Round, Final, Done };
-  Phase phase = Phase::Initial;
-  int round = 0;        // 1-based in Round
-  int pass = 0;         // index of the next pass inside the round
-  int round_changes = 0;  // splits + collapses of the round so far
-};
+using remesh::Schedule;
 
 // One state of the timeline: the mesh (T_1), the metric per vertex slot,
 // the pass that produced it (absent for the initial state) and the schedule
@@ -93,8 +82,6 @@ class Adaptation {
  private:
   void work(std::size_t from, int max_passes);
   void rebuild_from(const Snapshot& s);
-  remesh::PassKind next_kind(const Schedule& s) const;
-  void advance(Schedule& s, const remesh::PassReport& r, int n_vertices) const;
 
   const SurfaceMesh& input_;
   AdaptSettings settings_;
@@ -105,7 +92,6 @@ class Adaptation {
   std::unique_ptr<remesh::Remesher> remesher_;
   MetricField metric_;
   std::size_t built_from_ = static_cast<std::size_t>(-1);  // timeline index the remesher state is at
-  Schedule schedule_;
 
   mutable std::mutex mutex_;
   std::vector<std::shared_ptr<const Snapshot>> timeline_;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <new>
 #include <queue>
+#include <stdexcept>
 
 #include "geometry/features.h"
 #include "mesh/operators.h"
@@ -411,18 +412,21 @@ void Remesher::fill_state(PassReport& r) const {
 
 PassReport Remesher::measure() const {
   PassReport r;
-  r.iteration = iteration_;
+  r.iteration = schedule_.round;
   fill_state(r);
   return r;
 }
 
-PassReport Remesher::step(PassKind kind) { return step(kind, nullptr, true); }
+PassReport Remesher::step(PassKind kind) {
+  has_last_ = false;  // the schedule's shortcut (an unchanged state) no longer holds
+  return step(kind, nullptr, true);
+}
 
 PassReport Remesher::step(PassKind kind, const PassReport* previous, bool measure) {
   const auto t0 = Clock::now();
   PassReport r;
   r.kind = kind;
-  r.iteration = iteration_;
+  r.iteration = schedule_.round;
   switch (kind) {
     case PassKind::Split: split_pass(r); break;
     case PassKind::Collapse: collapse_pass(r); break;
@@ -457,42 +461,95 @@ PassReport Remesher::step(PassKind kind, const PassReport* previous, bool measur
   return r;
 }
 
-std::vector<PassReport> Remesher::run(const std::function<void(const PassReport&)>& progress) {
-  std::vector<PassReport> out;
-  // The last report whose state is the mesh's now (null after the metric changed).
-  const PassReport* last = nullptr;
-  auto record = [&](PassReport r) {
-    if (progress) progress(r);
-    out.push_back(std::move(r));
-    last = &out.back();
-    return out.back().changes();
-  };
-  // The state of a pass without changes is the previous one's. Without
-  // measure_every_pass only the last pass of a round is measured.
-  auto step = [&](PassKind kind, bool round_end = true) {
-    return this->step(kind, last, round_end || options_.measure_every_pass);  // before `out` grows
-  };
-  if (options_.initial_swaps) record(step(PassKind::Swap));
+void Remesher::set_schedule(const Schedule& s) {
+  schedule_ = s;
+  has_last_ = false;
+  mark_all();
   const int stages = std::max(0, options_.relaxation_stages);
-  ControlSpace& control = mesh_.control();
-  for (int stage = 0; stage <= stages; ++stage) {
+  if (stages > 0 && s.phase != Schedule::Phase::Initial && s.stage_started) {
+    mesh_.control().set_relaxation(static_cast<double>(s.stage + 1) / (stages + 1));
+    mesh_.refresh_values();
+  }
+}
+
+PassKind Remesher::next_pass() const {
+  switch (schedule_.phase) {
+    case Schedule::Phase::Initial: return options_.initial_swaps ? PassKind::Swap : PassKind::Split;
+    case Schedule::Phase::Round: {
+      static constexpr PassKind order[3] = {PassKind::Split, PassKind::Collapse, PassKind::Swap};
+      return schedule_.pass < 3 ? order[schedule_.pass] : PassKind::Smooth;
+    }
+    case Schedule::Phase::Final:
+    case Schedule::Phase::Done: break;
+  }
+  return PassKind::Final;
+}
+
+PassReport Remesher::record_state(PassReport r) {
+  last_ = r;
+  last_.touched = {};
+  has_last_ = true;
+  return r;
+}
+
+PassReport Remesher::advance() {
+  Schedule& s = schedule_;
+  if (s.phase == Schedule::Phase::Done) throw std::logic_error("Remesher::advance: the schedule is done");
+  if (s.phase == Schedule::Phase::Initial) {
+    s.phase = Schedule::Phase::Round;
+    if (options_.initial_swaps) return record_state(step(PassKind::Swap, has_last_ ? &last_ : nullptr, true));
+  }
+  if (s.phase == Schedule::Phase::Final) {
+    s.phase = Schedule::Phase::Done;
+    return record_state(step(PassKind::Final, has_last_ ? &last_ : nullptr, true));
+  }
+  // A round pass; the first of a stage sets its relaxed metric (Remark 6).
+  const int stages = std::max(0, options_.relaxation_stages);
+  if (!s.stage_started) {
+    s.stage_started = true;
     if (stages > 0) {
-      control.set_relaxation(static_cast<double>(stage + 1) / (stages + 1));
+      mesh_.control().set_relaxation(static_cast<double>(s.stage + 1) / (stages + 1));
       mesh_.refresh_values();
       mark_all();
-      last = nullptr;
-    }
-    const int first = iteration_ + 1;
-    for (++iteration_; iteration_ < first + options_.max_iterations; ++iteration_) {
-      const int smooth = std::max(0, options_.smoothing_passes);
-      const int s = record(step(PassKind::Split, false));
-      const int c = record(step(PassKind::Collapse, false));
-      record(step(PassKind::Swap, smooth == 0));
-      for (int p = 0; p < smooth; ++p) record(step(PassKind::Smooth, p + 1 == smooth));
-      if (s + c <= options_.converged_share * mesh_.mesh().n_vertices()) break;
+      has_last_ = false;
     }
   }
-  record(step(PassKind::Final));
+  if (s.pass == 0) {
+    ++s.round;
+    ++s.stage_rounds;
+    s.round_changes = 0;
+  }
+  const int passes = 3 + std::max(0, options_.smoothing_passes);
+  const PassKind kind = next_pass();
+  const bool round_end = s.pass + 1 == passes;
+  PassReport r = step(kind, has_last_ ? &last_ : nullptr, round_end || options_.measure_every_pass);
+  if (kind == PassKind::Split || kind == PassKind::Collapse) s.round_changes += r.splits + r.collapses;
+  if (!round_end) {
+    ++s.pass;
+    return record_state(std::move(r));
+  }
+  s.pass = 0;
+  const bool converged = s.round_changes <= options_.converged_share * mesh_.mesh().n_vertices();
+  if (converged || s.stage_rounds >= options_.max_iterations) {
+    if (s.stage < stages) {
+      ++s.stage;
+      s.stage_rounds = 0;
+      s.stage_started = false;
+    } else {
+      s.phase = Schedule::Phase::Final;
+    }
+  }
+  return record_state(std::move(r));
+}
+
+std::vector<PassReport> Remesher::run(const std::function<void(const PassReport&)>& progress,
+                                      const std::function<bool()>& stop) {
+  std::vector<PassReport> out;
+  while (!finished()) {
+    out.push_back(advance());
+    if (progress) progress(out.back());
+    if (stop && stop()) break;
+  }
   return out;
 }
 

@@ -10,6 +10,7 @@
 //   Remesher r(adapted_mesh);
 //   PassReport s = r.step(PassKind::Split);   // one named pass
 //   std::vector<PassReport> all = r.run();    // rounds until (almost) nothing changes, then the final pass
+//   while (!r.finished()) show(r.advance());  // or the same schedule a pass at a time
 #pragma once
 #include <array>
 #include <chrono>
@@ -90,6 +91,23 @@ struct PassReport {
   int changes() const { return splits + collapses + swaps + moves + removed_vertices; }
 };
 
+// Where run()'s schedule stands: initial swaps; per relaxation stage
+// (Remark 6), rounds of split, collapse, swap and smoothing until a round
+// splits and collapses at most converged_share of the vertices (or
+// max_iterations rounds); the final optimisation. A value, so that a caller
+// stepping the schedule (the editor) can keep it beside a copy of the mesh
+// and resume from there (Remesher::set_schedule).
+struct Schedule {
+  enum class Phase { Initial, Round, Final, Done };
+  Phase phase = Phase::Initial;
+  int stage = 0;               // relaxation stage, 0 .. relaxation_stages
+  bool stage_started = false;  // the stage's metric is set
+  int round = 0;               // rounds so far, all stages (PassReport::iteration)
+  int stage_rounds = 0;        // rounds of this stage
+  int pass = 0;                // next pass of the round: 0 split, 1 collapse, 2 swap, 3... smoothing
+  int round_changes = 0;       // splits + collapses of the round so far
+};
+
 class Remesher {
  public:
   struct EdgeItem {  // an edge waiting in the split or collapse heap
@@ -101,12 +119,20 @@ class Remesher {
 
   // One named pass; returns what it did and the state after it.
   PassReport step(PassKind kind);
-  // Initial swaps, then rounds of split, collapse, swap and smoothing until a
-  // round neither splits nor collapses (or max_iterations), then the final
-  // optimisation. `progress` is called after each pass. With
-  // relaxation_stages, the rounds run once per relaxed metric first.
-  // (Rounds also stop when they change at most converged_share of the vertices.)
-  std::vector<PassReport> run(const std::function<void(const PassReport&)>& progress = {});
+  // Section 6's loop (the Schedule below) from where it stands to its end,
+  // or until `stop` returns true after a pass (advance() resumes it).
+  std::vector<PassReport> run(const std::function<void(const PassReport&)>& progress = {},
+                              const std::function<bool()>& stop = {});
+  // run()'s schedule one pass at a time: the next pass, performed by
+  // advance() (pre: !finished()). run() = advance() until finished, with
+  // `progress` after each pass and a `stop` check between passes.
+  PassKind next_pass() const;
+  PassReport advance();
+  bool finished() const { return schedule_.phase == Schedule::Phase::Done; }
+  const Schedule& schedule() const { return schedule_; }
+  // Resumes the schedule at `s` (the mesh being the one `s` was taken with):
+  // the stage's relaxed metric is set again, every vertex is visited anew.
+  void set_schedule(const Schedule& s);
 
   // The state of the mesh now (histogram, quality) without changing it.
   PassReport measure() const;
@@ -125,6 +151,8 @@ class Remesher {
   // before, null if none) when the pass changed nothing; without `measure`,
   // only the sizes.
   PassReport step(PassKind kind, const PassReport* previous, bool measure);
+  // Keeps the state of r (the mesh's now) for the next pass of the schedule.
+  PassReport record_state(PassReport r);
   void split_pass(PassReport& r);
   // Splits the edges longer than lmax, longest first (with local swaps and
   // the long edges the splits make when follow_new_edges); returns the
@@ -153,7 +181,9 @@ class Remesher {
   std::deque<Modification> cache_;
   int smoothing_done_ = 0;
   std::vector<std::uint8_t> swap_active_, smooth_active_;  // per vertex slot
-  int iteration_ = 0;
+  Schedule schedule_;
+  PassReport last_;  // the state after the last pass of the schedule (valid if has_last_)
+  bool has_last_ = false;
   std::vector<EdgeItem> heap_;  // split / collapse passes: the heap's storage
   std::vector<std::uint8_t> touched_mark_;  // per vertex slot: in the pass's touched list
 };
