@@ -148,7 +148,10 @@ TEST_CASE("anisurf adapt --geometry: the coarse hemisphere (T_0) adapted on the 
     lowest = std::min(lowest, m.position(Vertex(v)).z);
   }
   CHECK(worst < 1e-5);
-  CHECK(lowest > -1e-6);  // the rim stays in its plane
+  // The rim stays in its plane up to the surface's accuracy there: it is
+  // no curve of T_G (the whole sphere), so its new vertices are points of
+  // the rim's chords put on the G1 surface of the sphere's triangles.
+  CHECK(lowest > -1e-3);
 }
 
 namespace {

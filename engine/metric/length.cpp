@@ -1,5 +1,7 @@
 #include "metric/length.h"
 
+#include <algorithm>
+
 #include <cmath>
 
 namespace anisurf {
@@ -10,6 +12,24 @@ double length_linear_size(double l0, double l1) {
   // l0 l1 log(l0/l1) / (l0 - l1) = l0 u / (exp(u) - 1) with u = log(l0 / l1).
   const double u = std::log(l0 / l1);
   return l0 * u / std::expm1(u);
+}
+
+double length_fraction_parameter(double l0, double l1, double fraction, LengthFormula formula) {
+  fraction = std::clamp(fraction, 0.0, 1.0);
+  if (!(l0 > 0) || !(l1 > 0) || std::fabs(l1 - l0) <= 1e-12 * (l0 + l1)) return fraction;
+  double t;
+  if (formula == LengthFormula::LinearMetric) {
+    // F(t) = integral of sqrt(a + s (b - a)), a = l0^2, b = l1^2:
+    // (2 / (3 (b - a))) ((a + t (b - a))^1.5 - a^1.5).
+    const double a = l0 * l0, b = l1 * l1;
+    const double target = std::pow(a, 1.5) + fraction * (std::pow(b, 1.5) - std::pow(a, 1.5));
+    t = (std::pow(target, 2.0 / 3.0) - a) / (b - a);
+  } else {
+    // The size h = |e| / l linear in t: F(t) = |e| log(h(t) / h0) / (h1 - h0).
+    const double h0 = 1 / l0, h1 = 1 / l1;
+    t = h0 * std::expm1(fraction * std::log(h1 / h0)) / (h1 - h0);
+  }
+  return std::clamp(t, 0.0, 1.0);
 }
 
 namespace {

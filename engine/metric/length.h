@@ -32,6 +32,12 @@ inline double length_linear_metric(double l0, double l1) {
 }
 // Eq. 7: l0 l1 log(l0 / l1) / (l0 - l1), l0 when equal (stable near l0 = l1).
 double length_linear_size(double l0, double l1);
+// The parameter t in [0, 1] of the point of an edge whose length from the
+// l0 end is `fraction` of the edge's (l0, l1: the edge measured in the
+// metric of each end). Eq. 6's density sqrt((1 - t) l0^2 + t l1^2) or eq.
+// 7's (the size linear along the edge) integrated and inverted in closed
+// form; `fraction` itself when l0 = l1.
+double length_fraction_parameter(double l0, double l1, double fraction, LengthFormula formula);
 // Length of the edge vector e from the metrics at its ends (eq. 6 or 7).
 inline double edge_length(const SymTensor3& M0, const SymTensor3& M1, const Vec3& e, LengthFormula formula) {
   const double l0 = metric_length(M0, e), l1 = metric_length(M1, e);

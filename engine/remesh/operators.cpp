@@ -135,12 +135,32 @@ Corner find_edge_corner(const SurfaceMesh& mesh, Vertex a, Vertex b) {
 
 // --- split --------------------------------------------------------------------
 
+namespace {
+
+// The point of edge b-d where a split puts its vertex (before projection):
+// the midpoint, or with split_in_unit_pieces the point at k / n of the
+// edge's metric length L, n = round(L) (at least 2), k = n / 2 rounded down.
+Vec3 split_point(const AdaptedMesh& m, Vertex b, Vertex d, const OperatorOptions& o) {
+  const SurfaceMesh& mesh = m.mesh();
+  const Vec3 pb = mesh.position(b), pd = mesh.position(d);
+  double t = 0.5;
+  if (o.split_in_unit_pieces) {
+    const Vec3 e = pd - pb;
+    const double l0 = metric_length(m.metric(b), e), l1 = metric_length(m.metric(d), e);
+    const int n = std::max(2, static_cast<int>(std::lround(std::min(m.length(b, d), 1e6))));
+    t = length_fraction_parameter(l0, l1, static_cast<double>(n / 2) / n, m.length_formula());
+  }
+  return (1 - t) * pb + t * pd;
+}
+
+}  // namespace
+
 SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
   const SurfaceMesh& mesh = m.mesh();
   SplitPlan plan;
   const Vertex b = mesh.edge_from(c), d = mesh.edge_to(c);
   plan.kind = is_feature_edge(mesh, c) ? VertexKind::Curve : VertexKind::Free;
-  const Vec3 mid = 0.5 * (mesh.position(b) + mesh.position(d));
+  const Vec3 mid = split_point(m, b, d, o);
 
   const Limits lim(o);
   // The one or two triangles of the edge, halved at x.
