@@ -189,3 +189,36 @@ TEST_CASE("quality: eq. 17 and the mean ratio are 1 for equilateral triangles in
   const double ph = 0.5 * (l1 + l2 + l3);
   CHECK(triangle_quality_in(t, M) == doctest::Approx(27 * area * area / (ph * ph * ph * ph)).epsilon(1e-12));
 }
+
+TEST_CASE("length: length_fraction_parameter puts the point at the asked share of the edge's metric length") {
+  // Checked against the adaptive quadrature of eq. 2 over [0, t], with the
+  // field each formula is exact for (metric coefficients linear: eq. 6;
+  // size linear: eq. 7).
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> lh(std::log(1e-3), 0.0), uf(0.0, 1.0);
+  double worst6 = 0, worst7 = 0;
+  for (int k = 0; k < 200; ++k) {
+    const double h0 = std::exp(lh(rng)), h1 = std::exp(lh(rng)), f = uf(rng);
+    const Vec3 e = random_vec(rng, 0.1);
+    const SymTensor3 M0 = isotropic_metric(h0), M1 = isotropic_metric(h1);
+    const double l0 = metric_length(M0, e), l1 = metric_length(M1, e);
+    // Eq. 6's field: M linear in t.
+    const double t6 = length_fraction_parameter(l0, l1, f, LengthFormula::LinearMetric);
+    const double part6 = integrated_length([&](double s) { return (1 - s * t6) * M0 + (s * t6) * M1; }, t6 * e, 1e-13);
+    const double whole6 = integrated_edge_length(M0, M1, e, MetricInterpolation::Linear, 1e-13);
+    worst6 = std::max(worst6, std::fabs(part6 - f * whole6) / whole6);
+    // Eq. 7's field: h linear in t.
+    const double t7 = length_fraction_parameter(l0, l1, f, LengthFormula::LinearSize);
+    const double part7 = integrated_length([&](double s) { return isotropic_metric(h0 + s * t7 * (h1 - h0)); }, t7 * e, 1e-13);
+    const double whole7 = norm(e) * std::log(h1 / h0) / (h1 - h0);
+    worst7 = std::max(worst7, std::fabs(part7 - f * whole7) / whole7);
+  }
+  CHECK(worst6 < 1e-8);
+  CHECK(worst7 < 1e-8);
+  // Equal ends: the fraction itself; the ends map to the ends.
+  CHECK(length_fraction_parameter(2.0, 2.0, 0.3, LengthFormula::LinearMetric) == 0.3);
+  CHECK(length_fraction_parameter(1.0, 5.0, 0.0, LengthFormula::LinearMetric) == doctest::Approx(0.0));
+  CHECK(length_fraction_parameter(1.0, 5.0, 1.0, LengthFormula::LinearSize) == doctest::Approx(1.0));
+  // The short end of the edge (l small: large size) takes more of the parameter.
+  CHECK(length_fraction_parameter(1.0, 5.0, 0.5, LengthFormula::LinearMetric) > 0.5);
+}
