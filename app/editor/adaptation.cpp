@@ -78,7 +78,7 @@ void Adaptation::start(std::size_t from, int max_passes) {
 void Adaptation::rebuild_from(const Snapshot& s) {
   if (!geometry_) {
     geometry_ = geometry_future_.valid() ? geometry_future_.get() : start_geometry(input_, settings_).get();
-    control_ = std::make_unique<remesh::ControlSpace>(input_, metric_, true);
+    control_ = std::make_unique<remesh::ControlSpace>(input_, metric_, true, MetricInterpolation::LinearSize);  // as `anisurf adapt`
   }
   remesher_.reset();
   adapted_.reset();
