@@ -68,6 +68,8 @@ class AdaptedMesh {
   const SymTensor3& metric(Vertex v) const { return metric_[v]; }
   // Unit surface normal at v's location (zero on feature curves and corners).
   const Vec3& surface_normal(Vertex v) const { return normal_[v]; }
+  // The hint of v's location on T_G.
+  const Hint& hint_g(Vertex v) const { return hint_g_[v]; }
   // False for a vertex left off the surface (a split at the straight
   // midpoint); the next move of the vertex projects it.
   bool on_surface(Vertex v) const { return on_surface_[v] != 0; }
@@ -105,6 +107,13 @@ class AdaptedMesh {
   // between two sheets of a thin part, the tip of a wing: either orientation
   // faces one of them). O(n); for tests and reports.
   int count_inverted();
+  // The test of count_inverted() for one triangle.
+  bool is_inverted(Triangle t);
+  // The same test for a triangle (p0, p1, p2) not in the mesh (yet): its
+  // corners free where `free` (VertexKind::Free), with their hints on T_G
+  // (the corner 0's for the centroid); true when it faces the surface (not
+  // inverted). The operators check some new triangles with it.
+  bool faces_surface(const std::array<Vec3, 3>& p, const std::array<bool, 3>& free, const std::array<Hint, 3>& hints);
 
  private:
   SurfaceMesh mesh_;
