@@ -176,6 +176,14 @@ int AdaptedMesh::count_inverted() {
   return n;
 }
 
+bool AdaptedMesh::near_feature(const Hint& h) const {
+  if (!h.is_valid()) return true;
+  const SurfaceMesh& g = geometry_.mesh();
+  for (int k = 0; k < 3; ++k)
+    if (g.vertex_tags(g.vertex(h.triangle, k)) & (kRidge | kBoundary | kCorner | kRequired)) return true;
+  return false;
+}
+
 bool AdaptedMesh::is_inverted(Triangle t) {
   std::array<Vec3, 3> p;
   std::array<bool, 3> free;

@@ -70,6 +70,9 @@ class AdaptedMesh {
   const Vec3& surface_normal(Vertex v) const { return normal_[v]; }
   // The hint of v's location on T_G.
   const Hint& hint_g(Vertex v) const { return hint_g_[v]; }
+  // True if the triangle of T_G of hint h has a vertex on a feature curve
+  // (or no triangle): where the G1 surface is only C0 nearby.
+  bool near_feature(const Hint& h) const;
   // False for a vertex left off the surface (a split at the straight
   // midpoint); the next move of the vertex projects it.
   bool on_surface(Vertex v) const { return on_surface_[v] != 0; }

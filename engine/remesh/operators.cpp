@@ -62,19 +62,28 @@ Rejection check_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
 // Sections 5.1, 5.3-5.5 ("the oriented normal vectors ... have significantly
 // changed", "element overlapping"): check_triangle compares a new triangle
 // with the triangle it replaces and with the surface normal at its free
-// corners (sn nonzero). That is the inversion measure (count_inverted) for
-// a triangle with two or three free corners, not for one with at most one:
-// with none (every corner on a feature curve: dense curves of a noisy scan)
-// there is no surface normal to compare with, and a swap or collapse could
-// turn it against the surface while staying close to the old normals; with
-// one, a single vote decides, taken inside the triangle, where the surface
-// may turn away from the corner's normal (a fold of the G1 surface near a
-// feature curve). Those are judged as count_inverted() judges them.
-// Called last (one or two projections).
+// corners (sn nonzero). The inversion measure (count_inverted) votes with
+// the surface normal inside the triangle instead (1/10 of the way from each
+// free corner to the centroid), which agrees with the corners' normals
+// where the surface is smooth, but not always:
+//  - with no free corner (every corner on a feature curve: the dense
+//    curves of a noisy scan) there is no normal to compare with, and a swap
+//    or collapse could turn the triangle against the surface while staying
+//    close to the old normals;
+//  - near a feature curve the G1 surface is only C0 and turns fast, and a
+//    point inside the triangle may be located on the other side of the
+//    curve (Avocado's rim, the folds of thinker.mesh), where one vote (one
+//    free corner) or two decide against the corners' normals.
+// Those triangles (at most one free corner, or a corner located in a
+// triangle of T_G touching a feature curve) are judged as count_inverted()
+// judges them; the others (smooth regions) keep the corner test alone.
+// Called last (a projection per free corner).
 Rejection check_surface_side(AdaptedMesh& m, const std::array<Vec3, 3>& x, const std::array<Vec3, 3>& sn,
                              const std::array<Hint, 3>& hints) {
   const std::array<bool, 3> free = {norm2(sn[0]) > 0, norm2(sn[1]) > 0, norm2(sn[2]) > 0};
-  if (free[0] + free[1] + free[2] >= 2) return Rejection::None;
+  if (free[0] + free[1] + free[2] >= 2 && !m.near_feature(hints[0]) && !m.near_feature(hints[1]) &&
+      !m.near_feature(hints[2]))
+    return Rejection::None;
   return m.faces_surface(x, free, hints) ? Rejection::None : Rejection::Inversion;
 }
 
@@ -180,7 +189,7 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     }
     return Rejection::None;
   };
-  // The new triangles with at most one free corner (check_surface_side).
+  // The new triangles, at most one free corner or near a feature (check_surface_side).
   auto check_sides = [&](const Vec3& x, const Vec3& surface_n, const Hint& hint) {
     for (Corner k : {c, mesh.opposite(c)}) {
       if (!k.is_valid()) continue;
@@ -279,8 +288,8 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
   const Limits lim(o);
   double q_old = 1, q_new = 1;
   bool any = false;
-  // New triangles with at most one free corner (check_surface_side, after the cheaper filters).
-  std::vector<TriangleView> few_free;
+  // The new triangles, for check_surface_side after the cheaper filters.
+  std::vector<TriangleView> new_triangles;
   for (Vertex w : {r, k}) {
     for (Corner x : mesh.fan(w)) {
       const Triangle t = M::triangle(x);
@@ -294,7 +303,7 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
       if (why != Rejection::None) return why;
       q_new = std::min(q_new, m.quality(tv.x, tv.M));
       any = true;
-      if ((norm2(tv.n[0]) > 0) + (norm2(tv.n[1]) > 0) + (norm2(tv.n[2]) > 0) < 2) few_free.push_back(tv);
+      new_triangles.push_back(tv);
     }
   }
   if (!any) return Rejection::Topology;
@@ -307,7 +316,7 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
     }
   }
   if (q_new < std::min(q_old, o.collapse_quality)) return Rejection::Quality;
-  for (const TriangleView& tv : few_free) {
+  for (const TriangleView& tv : new_triangles) {
     const Rejection why = check_surface_side(m, tv.x, tv.n, tv.h);
     if (why != Rejection::None) return why;
   }
