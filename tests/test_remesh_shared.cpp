@@ -1,5 +1,5 @@
 // The remesher on every shared mesh (../shared/meshes) with the isotropic
-// metric h = bbox diagonal / 50, and on a set of them with a curvature metric
+// metric h = bbox diagonal / 50, and on all but four (see below) with a curvature metric
 // (hausd = diagonal / 1000), on the G1 surface (the defaults of `anisurf
 // adapt`), stepped pass by pass as Remesher::run() does: after every pass the
 // mesh is valid and has no more inverted triangles than its input (none for
