@@ -1,13 +1,17 @@
 // The remesher on every shared mesh (../shared/meshes) with the isotropic
-// metric h = bbox diagonal / 50, and on a set of them with a curvature metric
+// metric h = bbox diagonal / 50, and on all but four (see below) with a curvature metric
 // (hausd = diagonal / 1000), on the G1 surface (the defaults of `anisurf
 // adapt`), stepped pass by pass as Remesher::run() does: after every pass the
 // mesh is valid and has no more inverted triangles than its input (none for
-// an input without any).
+// an input without any). After the run, the feature curves survive: every
+// feature edge of T_1 lies on a feature curve of the input, and every input
+// corner is still a vertex.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <set>
 #include <memory>
 #include <string>
 
@@ -44,7 +48,93 @@ std::pair<int, int> inverted_when_reversed(AdaptedMesh& a) {
   return {r.count_inverted(), no_free};
 }
 
+// Distance from x to the segment a-b.
+double segment_distance(const Vec3& x, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double l2 = norm2(ab);
+  const double t = l2 > 0 ? std::clamp(dot(x - a, ab) / l2, 0.0, 1.0) : 0.0;
+  return norm(x - (a + t * ab));
+}
+
+// Sections 5.1-5.5: a curve vertex moves only along its curve, a collapse
+// removes a curve vertex only along its curve, a corner is never removed or
+// moved, feature edges are never swapped. So every feature edge of the
+// output lies on the feature curves of the input: its ends and its midpoint
+// near an input feature edge, and every input corner is an output vertex at
+// the same place. "Near" allows for the G1 curve the vertices are projected
+// onto: over an input edge of length L it is a cubic with handles of at
+// most L/3 (geometry/bezier_surface.h), within L/4 of the edge (a coarse
+// arc, featuretype.STL, bulges by up to 0.8 h from its chord); plus `tol`
+// for the sag of the output chord. Returns the largest distance (beyond
+// L/4) of an end and of a midpoint.
+std::pair<double, double> check_features_survive(const SurfaceMesh& input, const SurfaceMesh& out, double tol,
+                                                 bool strict) {
+  struct Segment {
+    Vec3 a, b;
+    double slack;  // L/4
+  };
+  std::vector<Segment> curves;
+  for (int i = 0; i < input.triangle_capacity(); ++i) {
+    if (input.is_deleted(Triangle(i))) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Corner c = SurfaceMesh::corner(Triangle(i), k);
+      if (!is_feature_edge(input, c)) continue;
+      const Vec3 a = input.position(input.edge_from(c)), b = input.position(input.edge_to(c));
+      curves.push_back({a, b, 0.25 * norm(b - a)});
+    }
+  }
+  auto distance = [&](const Vec3& x) {
+    double d = INFINITY;
+    for (const Segment& s : curves) {
+      d = std::min(d, std::max(0.0, segment_distance(x, s.a, s.b) - s.slack));
+      if (d <= 0.1 * tol) break;  // close enough: no need for the closest
+    }
+    return d;
+  };
+  double worst_end = 0, worst_mid = 0;
+  int feature_edges = 0, off_curve = 0;
+  for (int i = 0; i < out.triangle_capacity(); ++i) {
+    if (out.is_deleted(Triangle(i))) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Corner c = SurfaceMesh::corner(Triangle(i), k);
+      if (!is_feature_edge(out, c)) continue;
+      ++feature_edges;
+      const Vec3 a = out.position(out.edge_from(c)), b = out.position(out.edge_to(c));
+      const double de = std::max(distance(a), distance(b)), dm = distance(0.5 * (a + b));
+      worst_end = std::max(worst_end, de);
+      worst_mid = std::max(worst_mid, dm);
+      if (de > tol || dm > tol) ++off_curve;
+    }
+  }
+  if (strict) CHECK(off_curve == 0);
+  CHECK((curves.empty() || feature_edges > 0));
+  // Corners: fixed vertices keep their exact positions.
+  std::set<std::array<double, 3>> positions;
+  for (int i = 0; i < out.vertex_capacity(); ++i)
+    if (!out.is_deleted(Vertex(i)) && !out.is_isolated(Vertex(i))) {
+      const Vec3 x = out.position(Vertex(i));
+      positions.insert({x.x, x.y, x.z});
+    }
+  int corners = 0, lost = 0;
+  for (int i = 0; i < input.vertex_capacity(); ++i) {
+    const Vertex v(i);
+    if (input.is_deleted(v) || input.is_isolated(v) || !(input.vertex_tags(v) & kCorner)) continue;
+    ++corners;
+    const Vec3 x = input.position(v);
+    if (!positions.count({x.x, x.y, x.z})) ++lost;
+  }
+  CHECK(lost == 0);
+  MESSAGE("features: " << off_curve << " output feature edges off the curves; " << curves.size() << " input feature edge sides, " << feature_edges
+                       << " output, worst distance beyond L/4 of an end " << worst_end << ", of a midpoint " << worst_mid << " (tolerance " << tol << "); " << corners
+                       << " corners, " << lost << " lost");
+  return {worst_end, worst_mid};
+}
+
 enum class TestMetric { Isotropic, Curvature };
+
+// Feature survival: distance to the input feature curves, relative to the
+// diagonal (the measured worst is below 1e-3 on every shared mesh).
+constexpr double kFeatureTolerance = 2e-3;
 
 // Adapts ../shared/meshes/<name>, checking after each pass; returns false
 // when the file is absent. Isotropic: h = diagonal / 50; curvature: sizes
@@ -86,7 +176,12 @@ bool adapt_checked(const std::string& name, TestMetric kind = TestMetric::Isotro
     REQUIRE_MESSAGE(v.ok(), v.summary());
     const int inv = adapted.count_inverted();
     worst = std::max(worst, inv);
-    CHECK(inv <= inverted_in);
+    // thinker.mesh is a broken input whose sheets nearly touch: the
+    // measure's votes (the closest point of T_G from a point inside the
+    // triangle) land on the sheet 1e-3 away, facing the other way, for a
+    // few triangles whose corners all agree with the surface. Its counts
+    // are reported (MESSAGE below), not bounded.
+    if (name != "thinker.mesh") CHECK(inv <= inverted_in);
     return p;
   };
   one(PassKind::Swap, 0);
@@ -109,6 +204,13 @@ bool adapt_checked(const std::string& name, TestMetric kind = TestMetric::Isotro
     // judged by the sheet they face (either orientation faces one).
     CHECK(inv >= adapted.mesh().n_triangles() - 10);
   }
+  {
+    INFO("feature curves after the run");
+    // thinker.mesh (a broken input) is only reported: one curve vertex
+    // between two corners lies 0.0026 (0.11 h) beyond the L/4 bound of the
+    // G1 curve over the input edges near it, in the isotropic run.
+    check_features_survive(input, adapted.mesh(), kFeatureTolerance * diagonal, name != "thinker.mesh");
+  }
   const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   MESSAGE(name << ": " << passes << " passes, inverted " << inverted_in << " in, at most " << worst
                << " after a pass, " << adapted.count_inverted() << " at the end, " << sec << " s");
@@ -117,30 +219,34 @@ bool adapt_checked(const std::string& name, TestMetric kind = TestMetric::Isotro
 
 }  // namespace
 
+// Every shared mesh.
+const char* const kSharedMeshes[] = {
+    "bunny.off",   "bun_zipper_res2.ply", "spot.obj",        "fandisk.off",     "featuretype.STL", "fixed_top.ply",
+    "falcon.mesh", "torus.STL",           "mmg_torus.mesh",  "mmg_teapot.mesh", "mmg_cube.mesh",   "thinker.mesh",
+    "camelhead.off", "beetle.off",        "Box.glb",         "Duck.glb",        "Suzanne.gltf",    "Avocado.gltf",
+};
+
 TEST_CASE("remesh: every shared mesh with h = diagonal/50, every pass valid and no new inverted triangle") {
-  // Left out: thinker.mesh (a broken input: 30 inverted triangles by the
-  // measure, up to 243 after the collapses of its first round) and
-  // bun_zipper_res2.ply (10 inverted in its noisy scan; the initial swaps
-  // make 11 among triangles whose corners are all on its dense feature
-  // curves, where the operators have no surface normal to check against).
-  const char* meshes[] = {
-      "bunny.off",       "spot.obj",         "fandisk.off",   "featuretype.STL", "fixed_top.ply",
-      "falcon.mesh",     "torus.STL",        "mmg_torus.mesh", "mmg_teapot.mesh", "mmg_cube.mesh",
-      "camelhead.off",   "beetle.off",       "Box.glb",       "Duck.glb",        "Suzanne.gltf",
-      "Avocado.gltf",
-  };
   int found = 0;
-  for (const char* m : meshes) found += adapt_checked(m) ? 1 : 0;
+  for (const char* m : kSharedMeshes) found += adapt_checked(m) ? 1 : 0;
   if (found == 0) MESSAGE("skipped: ../shared/meshes not found (no shared test data)");
 }
 
-TEST_CASE("remesh: shared meshes with a curvature metric, every pass valid and no new inverted triangle") {
-  // Smooth, CAD, open meshes; the larger ones (falcon, beetle) are measured by
-  // hand: `anisurf adapt MESH --curvature --hausd D`. Left out: Suzanne.gltf,
-  // where the swap passes of rounds 7-8 leave 1 triangle inverted for a while
-  // (0 at the end): a missing check in the swap, to be found.
-  const char* meshes[] = {"bunny.off", "spot.obj", "fandisk.off", "torus.STL", "camelhead.off"};
+TEST_CASE("remesh: every shared mesh with a curvature metric, every pass valid and no new inverted triangle") {
   int found = 0;
-  for (const char* m : meshes) found += adapt_checked(m, TestMetric::Curvature) ? 1 : 0;
+  for (const char* m : kSharedMeshes) {
+    // bun_zipper_res2.ply and thinker.mesh: the Hessian recovery of
+    // curvature_metric refuses a vertex of each (126, 2146: neighbours too
+    // few or aligned for a quadratic).
+    // featuretype.STL and fixed_top.ply (CAD parts of slivers, 0.004 and
+    // 0.01 degrees): about 40 s each here (to 56k and 48k vertices, 30
+    // rounds of passes), measured by hand instead: `anisurf adapt MESH
+    // --curvature --hausd D --hmin 2D --hmax 100D` with D = diagonal/1000
+    // (3 and 6 inverted in the input, 0 in the output; 10 s and 8 s).
+    const std::string name = m;
+    if (name == "bun_zipper_res2.ply" || name == "thinker.mesh" || name == "featuretype.STL" || name == "fixed_top.ply")
+      continue;
+    found += adapt_checked(m, TestMetric::Curvature) ? 1 : 0;
+  }
   if (found == 0) MESSAGE("skipped: ../shared/meshes not found (no shared test data)");
 }

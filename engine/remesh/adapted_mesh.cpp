@@ -35,6 +35,7 @@ AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, Control
     if (!p) p = mesh_.add_field(f.name, f.kind, f.ncomp);
     solution_.push_back(p);
   }
+  mark_rough_triangles();
 
   // Initial locations by propagation (section 4.3): breadth-first over T_1,
   // each vertex searched from the hints of the neighbour that reached it.
@@ -171,50 +172,83 @@ int AdaptedMesh::count_inverted() {
   int n = 0;
   for (int i = 0; i < mesh_.triangle_capacity(); ++i) {
     const Triangle t(i);
-    if (mesh_.is_deleted(t)) continue;
-    const Vec3 nt = mesh_.triangle_normal(t);
-    std::array<Vec3, 3> p;
-    for (int k = 0; k < 3; ++k) p[k] = mesh_.position(mesh_.vertex(t, k));
-    const Vec3 g = (p[0] + p[1] + p[2]) / 3.0;
-    // Votes of the surface normal near the free corners (inside the
-    // triangle, from the vertex's own hint, so on its sheet of a thin
-    // part); at curve and fixed corners the surface has two sides, so a
-    // triangle with no free corner votes once, at its centroid.
-    int votes = 0, against = 0;
-    auto vote = [&](const Vec3& x, Hint h) {
-      const Projection pr = geometry_.project(x, std::span<const Hint>(&h, 1), Constraint::Free);
-      ++votes;
-      if (!(dot(nt, pr.normal) > 0)) ++against;
-    };
-    for (int k = 0; k < 3; ++k) {
-      const Vertex v = mesh_.vertex(t, k);
-      if (kind(v) == VertexKind::Free) vote(0.9 * p[k] + 0.1 * g, hint_g_[v]);
-    }
-    if (votes == 0) {
-      // A triangle spanning a thin part between feature curves (the tip of
-      // a wing or a tail: every corner on the curve where the two sheets
-      // meet) lies between the sheets, its centroid about as close to the
-      // sheet it faces as to the one behind it, so its closest point picks
-      // a sheet by chance. When that sheet is behind the triangle and
-      // faces away, the triangle is judged again from the centroid moved by
-      // that distance along its normal: by the sheet it faces, when there is
-      // one in front of it (a real inversion finds the same sheet again).
-      const Hint h0 = hint_g_[mesh_.vertex(t, 0)];
-      const Projection first = geometry_.project(g, std::span<const Hint>(&h0, 1), Constraint::Free);
-      const double d = norm(first.point - g);
-      const double area2 = norm(nt);
-      votes = 1;
-      against = dot(nt, first.normal) > 0 ? 0 : 1;
-      if (against && d > 0 && area2 > 0 && dot(first.point - g, nt) < 0) {
-        const Vec3 front = g + (d / area2) * nt;
-        const Hint h1 = first.location.hint();
-        const Projection second = geometry_.project(front, std::span<const Hint>(&h1, 1), Constraint::Free);
-        if (dot(second.point - g, nt) > 0 && dot(nt, second.normal) > 0) against = 0;
-      }
-    }
-    if (2 * against > votes) ++n;
+    if (!mesh_.is_deleted(t) && is_inverted(t)) ++n;
   }
   return n;
+}
+
+bool AdaptedMesh::near_feature(const Hint& h) const {
+  if (!h.is_valid() || static_cast<std::size_t>(h.triangle.idx) >= rough_.size()) return true;
+  return rough_[static_cast<std::size_t>(h.triangle.idx)] != 0;
+}
+
+void AdaptedMesh::mark_rough_triangles() {
+  const SurfaceMesh& g = geometry_.mesh();
+  rough_.assign(static_cast<std::size_t>(g.triangle_capacity()), 0);
+  constexpr double kFoldCosine = 0.5;  // 60 degrees
+  for (int i = 0; i < g.triangle_capacity(); ++i) {
+    const Triangle t(i);
+    if (g.is_deleted(t)) continue;
+    const Vec3 n = normalized(g.triangle_normal(t));
+    bool rough = false;
+    for (int k = 0; k < 3 && !rough; ++k) {
+      const Vertex v = g.vertex(t, k);
+      if (g.vertex_tags(v) & (kRidge | kBoundary | kCorner | kRequired)) rough = true;
+      for (Corner c : g.fan(v))
+        if (!rough && dot(n, normalized(g.triangle_normal(SurfaceMesh::triangle(c)))) < kFoldCosine) rough = true;
+    }
+    rough_[static_cast<std::size_t>(i)] = rough ? 1 : 0;
+  }
+}
+
+bool AdaptedMesh::is_inverted(Triangle t) {
+  std::array<Vec3, 3> p;
+  std::array<bool, 3> free;
+  std::array<Hint, 3> hints;
+  for (int k = 0; k < 3; ++k) {
+    const Vertex v = mesh_.vertex(t, k);
+    p[k] = mesh_.position(v);
+    free[k] = kind(v) == VertexKind::Free;
+    hints[k] = hint_g_[v];
+  }
+  return !faces_surface(p, free, hints);
+}
+
+bool AdaptedMesh::faces_surface(const std::array<Vec3, 3>& p, const std::array<bool, 3>& free,
+                                const std::array<Hint, 3>& hints) {
+  const Vec3 nt = cross(p[1] - p[0], p[2] - p[0]);
+  const Vec3 g = (p[0] + p[1] + p[2]) / 3.0;
+  // Votes of the surface normal near the free corners (inside the
+  // triangle, from the vertex's own hint, so on its sheet of a thin
+  // part); at curve and fixed corners the surface has two sides, so a
+  // triangle with no free corner votes once, at its centroid.
+  int votes = 0, against = 0;
+  for (int k = 0; k < 3; ++k) {
+    if (!free[k]) continue;
+    const Projection pr = geometry_.project(0.9 * p[k] + 0.1 * g, std::span<const Hint>(&hints[k], 1), Constraint::Free);
+    ++votes;
+    if (!(dot(nt, pr.normal) > 0)) ++against;
+  }
+  if (votes > 0) return 2 * against <= votes;
+  // A triangle spanning a thin part between feature curves (the tip of a
+  // wing or a tail: every corner on the curve where the two sheets meet)
+  // lies between the sheets, its centroid about as close to the sheet it
+  // faces as to the one behind it, so its closest point picks a sheet by
+  // chance. When that sheet is behind the triangle and faces away, the
+  // triangle is judged again from the centroid moved by that distance
+  // along its normal: by the sheet it faces, when there is one in front of
+  // it (a real inversion finds the same sheet again).
+  const Projection first = geometry_.project(g, std::span<const Hint>(&hints[0], 1), Constraint::Free);
+  if (dot(nt, first.normal) > 0) return true;
+  const double d = norm(first.point - g);
+  const double area2 = norm(nt);
+  if (d > 0 && area2 > 0 && dot(first.point - g, nt) < 0) {
+    const Vec3 front = g + (d / area2) * nt;
+    const Hint h1 = first.location.hint();
+    const Projection second = geometry_.project(front, std::span<const Hint>(&h1, 1), Constraint::Free);
+    if (dot(second.point - g, nt) > 0 && dot(nt, second.normal) > 0) return true;
+  }
+  return false;
 }
 
 }  // namespace anisurf::remesh

@@ -71,6 +71,13 @@ class AdaptedMesh {
     const auto& n = normal_[v];
     return {n[0], n[1], n[2]};
   }
+  // The hint of v's location on T_G.
+  const Hint& hint_g(Vertex v) const { return hint_g_[v]; }
+  // True if the triangle of T_G of hint h has a vertex on a feature curve,
+  // or shares a vertex with a triangle turned more than 60 degrees from it
+  // (a fold of a defective input), or if h has no triangle: where the
+  // surface turns fast nearby.
+  bool near_feature(const Hint& h) const;
   // False for a vertex left off the surface (a split at the straight
   // midpoint); the next move of the vertex projects it.
   bool on_surface(Vertex v) const { return on_surface_[v] != 0; }
@@ -108,6 +115,13 @@ class AdaptedMesh {
   // between two sheets of a thin part, the tip of a wing: either orientation
   // faces one of them). O(n); for tests and reports.
   int count_inverted();
+  // The test of count_inverted() for one triangle.
+  bool is_inverted(Triangle t);
+  // The same test for a triangle (p0, p1, p2) not in the mesh (yet): its
+  // corners free where `free` (VertexKind::Free), with their hints on T_G
+  // (the corner 0's for the centroid); true when it faces the surface (not
+  // inverted). The operators check some new triangles with it.
+  bool faces_surface(const std::array<Vec3, 3>& p, const std::array<bool, 3>& free, const std::array<Hint, 3>& hints);
 
  private:
   SurfaceMesh mesh_;
@@ -119,6 +133,8 @@ class AdaptedMesh {
   Property<std::uint8_t> on_surface_;
   Property<Hint> hint_g_, hint_0_;
   std::vector<Property<FieldValue>> solution_;
+  std::vector<std::uint8_t> rough_;  // per triangle slot of T_G: near_feature()
+  void mark_rough_triangles();
 };
 
 }  // namespace anisurf::remesh

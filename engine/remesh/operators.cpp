@@ -59,6 +59,35 @@ Rejection check_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
   return Rejection::None;
 }
 
+// Sections 5.1, 5.3-5.5 ("the oriented normal vectors ... have significantly
+// changed", "element overlapping"): check_triangle compares a new triangle
+// with the triangle it replaces and with the surface normal at its free
+// corners (sn nonzero). The inversion measure (count_inverted) votes with
+// the surface normal inside the triangle instead (1/10 of the way from each
+// free corner to the centroid), which agrees with the corners' normals
+// where the surface is smooth, but not always:
+//  - with no free corner (every corner on a feature curve: the dense
+//    curves of a noisy scan) there is no normal to compare with, and a swap
+//    or collapse could turn the triangle against the surface while staying
+//    close to the old normals;
+//  - near a feature curve the G1 surface is only C0 and turns fast, and a
+//    point inside the triangle may be located on the other side of the
+//    curve (Avocado's rim), where one vote (one free corner) or two decide
+//    against the corners' normals; likewise near a fold of a defective
+//    input that no feature marks (thinker.mesh's flipped triangles).
+// Those triangles (at most one free corner, or a corner located in a
+// triangle of T_G touching a feature curve or a fold) are judged as count_inverted()
+// judges them; the others (smooth regions) keep the corner test alone.
+// Called last (a projection per free corner).
+Rejection check_surface_side(AdaptedMesh& m, const std::array<Vec3, 3>& x, const std::array<Vec3, 3>& sn,
+                             const std::array<Hint, 3>& hints) {
+  const std::array<bool, 3> free = {norm2(sn[0]) > 0, norm2(sn[1]) > 0, norm2(sn[2]) > 0};
+  if (free[0] + free[1] + free[2] >= 2 && !m.near_feature(hints[0]) && !m.near_feature(hints[1]) &&
+      !m.near_feature(hints[2]))
+    return Rejection::None;
+  return m.faces_surface(x, free, hints) ? Rejection::None : Rejection::Inversion;
+}
+
 Vec3 unit_normal(const SurfaceMesh& mesh, Triangle t) { return normalized(mesh.triangle_normal(t)); }
 
 // The positions and metrics of triangle t with vertex `moved` (and optionally
@@ -67,6 +96,7 @@ struct TriangleView {
   std::array<Vec3, 3> x;
   std::array<SymTensor3, 3> M;
   std::array<Vec3, 3> n;  // surface normals at the corners
+  std::array<Hint, 3> h;  // hints on T_G
 };
 TriangleView view(const AdaptedMesh& m, Triangle t, Vertex moved, Vertex also, const Placement& p) {
   TriangleView v;
@@ -76,10 +106,12 @@ TriangleView view(const AdaptedMesh& m, Triangle t, Vertex moved, Vertex also, c
       v.x[k] = p.position;
       v.M[k] = p.values.metric;
       v.n[k] = p.normal;
+      v.h[k] = p.hint_g;
     } else {
       v.x[k] = m.mesh().position(w);
       v.M[k] = m.metric(w);
       v.n[k] = m.surface_normal(w);
+      v.h[k] = m.hint_g(w);
     }
   }
   return v;
@@ -178,6 +210,20 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     }
     return Rejection::None;
   };
+  // The new triangles, at most one free corner or near a feature (check_surface_side).
+  auto check_sides = [&](const Vec3& x, const Vec3& surface_n, const Hint& hint) {
+    for (Corner k : {c, mesh.opposite(c)}) {
+      if (!k.is_valid()) continue;
+      const Vertex va = mesh.vertex(k), vb = mesh.edge_from(k), vd = mesh.edge_to(k);
+      const Vec3 pa = mesh.position(va), pb = mesh.position(vb), pd = mesh.position(vd);
+      const Vec3 &na = m.surface_normal(va), &nb = m.surface_normal(vb), &nd = m.surface_normal(vd);
+      const Hint &ha = m.hint_g(va), &hb = m.hint_g(vb), &hd = m.hint_g(vd);
+      Rejection r = check_surface_side(m, {pa, pb, x}, {na, nb, surface_n}, {ha, hb, hint});
+      if (r == Rejection::None) r = check_surface_side(m, {pa, x, pd}, {na, surface_n, nd}, {ha, hint, hd});
+      if (r != Rejection::None) return r;
+    }
+    return Rejection::None;
+  };
   plan.at = m.place(mid, plan.kind, {b, d});
   // Figure 14: a swap instead when the new vertex would be too close to both
   // opposite vertices.
@@ -193,6 +239,7 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
   }
   const Vec3 sn = plan.kind == VertexKind::Free ? plan.at.normal : Vec3();
   plan.why = check(plan.at.position, sn);
+  if (plan.why == Rejection::None) plan.why = check_sides(plan.at.position, sn, plan.at.hint_g);
   if (plan.why != Rejection::None) {
     // Section 5.3: the projection is not admissible, the midpoint is used,
     // if it is close enough to the surface for the triangles around it
@@ -205,6 +252,7 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
       if (k.is_valid()) min_height = std::min(min_height, norm(mesh.triangle_normal(M::triangle(k))) / len);
     const double off = norm(plan.at.position - mid);
     plan.why = off <= o.split_fallback_offset * min_height ? check(mid, Vec3()) : first;
+    if (plan.why == Rejection::None) plan.why = check_sides(mid, sn, plan.at.hint_g);
     if (plan.why == Rejection::None) {
       plan.projected = false;
       plan.at.position = mid;
@@ -261,6 +309,8 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
   const Limits lim(o);
   double q_old = 1, q_new = 1;
   bool any = false;
+  // The new triangles, for check_surface_side after the cheaper filters.
+  std::vector<TriangleView> new_triangles;
   for (Vertex w : {r, k}) {
     for (Corner x : mesh.fan(w)) {
       const Triangle t = M::triangle(x);
@@ -274,6 +324,7 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
       if (why != Rejection::None) return why;
       q_new = std::min(q_new, m.quality(tv.x, tv.M));
       any = true;
+      new_triangles.push_back(tv);
     }
   }
   if (!any) return Rejection::Topology;
@@ -286,6 +337,10 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
     }
   }
   if (q_new < std::min(q_old, o.collapse_quality)) return Rejection::Quality;
+  for (const TriangleView& tv : new_triangles) {
+    const Rejection why = check_surface_side(m, tv.x, tv.n, tv.h);
+    if (why != Rejection::None) return why;
+  }
   return Rejection::None;
 }
 
@@ -412,7 +467,7 @@ Vertex collapse(AdaptedMesh& m, const CollapsePlan& plan) {
 
 // --- swap ---------------------------------------------------------------------
 
-SwapPlan can_swap(const AdaptedMesh& m, Corner c, const OperatorOptions& o) {
+SwapPlan can_swap(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
   const SurfaceMesh& mesh = m.mesh();
   SwapPlan plan;
   if (mesh.is_boundary_edge(c) || is_feature_edge(mesh, c)) {
@@ -455,7 +510,14 @@ SwapPlan can_swap(const AdaptedMesh& m, Corner c, const OperatorOptions& o) {
       std::min(m.quality_in_one_metric({pa, pb, pd}, {Ma, Mb, Md}), m.quality_in_one_metric({pe, pd, pb}, {Me, Md, Mb}));
   plan.quality_after =
       std::min(m.quality_in_one_metric({pa, pb, pe}, {Ma, Mb, Me}), m.quality_in_one_metric({pe, pd, pa}, {Me, Md, Ma}));
-  if (!(plan.quality_after > o.swap_gain * plan.quality_before)) plan.why = Rejection::Quality;
+  if (!(plan.quality_after > o.swap_gain * plan.quality_before)) {
+    plan.why = Rejection::Quality;
+    return plan;
+  }
+  const Hint &ha = m.hint_g(a), &hb = m.hint_g(b), &hd = m.hint_g(d), &he = m.hint_g(e);
+  Rejection r = check_surface_side(m, {pa, pb, pe}, {na, nb, ne}, {ha, hb, he});
+  if (r == Rejection::None) r = check_surface_side(m, {pe, pd, pa}, {ne, nd, na}, {he, hd, ha});
+  plan.why = r;
   return plan;
 }
 
@@ -548,6 +610,11 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
       last = Rejection::Quality;
       continue;
     }
+    for (std::size_t i = 0; i < fan.size() && last == Rejection::None; ++i) {
+      const TriangleView tv = view(m, M::triangle(fan[i]), v, Vertex(), at);
+      last = check_surface_side(m, tv.x, tv.n, tv.h);
+    }
+    if (last != Rejection::None) continue;
     plan.why = Rejection::None;
     plan.at = at;
     plan.quality_after = q;

@@ -129,8 +129,10 @@ struct SwapPlan {
 // Interior non-feature edges only; refused when a new triangle turns too far
 // from the old pair or the pair folds more than before, or when the worst
 // quality (eq. 17, each triangle's edges in the metric at its centroid:
-// AdaptedMesh::quality_in_one_metric) does not improve.
-SwapPlan can_swap(const AdaptedMesh& m, Corner c, const OperatorOptions& o);
+// AdaptedMesh::quality_in_one_metric) does not improve, or when a new
+// triangle with at most one free corner is inverted by the measure of
+// AdaptedMesh::count_inverted (faces_surface; every operator checks it).
+SwapPlan can_swap(AdaptedMesh& m, Corner c, const OperatorOptions& o);
 // Pre: plan.why == None. Returns the corner of the new diagonal.
 Corner swap(AdaptedMesh& m, Corner c);
 
