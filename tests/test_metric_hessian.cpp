@@ -6,6 +6,7 @@
 #include <map>
 #include <random>
 
+#include "mesh/build.h"
 #include "metric/hessian.h"
 #include "metric/surface_metric.h"
 #include "test_util.h"
@@ -262,4 +263,29 @@ TEST_CASE("hessian: refuses non-finite values naming the vertex") {
   std::vector<double> f(m.vertex_capacity(), 1.0);
   f[3] = NAN;
   CHECK_THROWS_WITH_AS(recover_derivatives(m, f), doctest::Contains("vertex 4"), MetricError);
+}
+
+TEST_CASE("hessian: vertices whose neighbours do not determine a quadratic take their neighbours' fit") {
+  // An icosphere plus a separate fan of 3 triangles (4 points, too few for
+  // a quadratic even over 4 rings): its vertices are counted and filled
+  // from their neighbours, or zero when none was fitted.
+  MeshData data = to_mesh_data(icosphere(2));
+  const int base = static_cast<int>(data.vertices.size());
+  for (const Vec3& p : {Vec3(3, 0, 0), Vec3(3.1, 0, 0), Vec3(3, 0.1, 0), Vec3(2.9, 0, 0.1)}) data.vertices.push_back(p);
+  data.triangles.push_back({base, base + 1, base + 2});
+  data.triangles.push_back({base, base + 2, base + 3});
+  SurfaceMesh m;
+  build_mesh(data, m);
+  const ValidationReport v = m.validate();
+  REQUIRE_MESSAGE(v.ok(), v.summary());
+  std::vector<double> f(m.vertex_capacity());
+  for (int i = 0; i < m.vertex_capacity(); ++i) f[i] = m.position(Vertex(i)).x * m.position(Vertex(i)).x;
+  const RecoveredDerivatives r = recover_derivatives(m, f);
+  CHECK(r.unfitted == 4);
+  for (int i = base; i < m.vertex_capacity(); ++i) CHECK(frobenius_norm(r.hessian[i]) == 0.0);
+  // The sphere's vertices are fitted as before: curvatures +1, +1 (trace 2).
+  int unfitted = -1;
+  const auto II = recover_curvature(m, {}, &unfitted);
+  CHECK(unfitted == 4);
+  for (int i = 0; i < base; ++i) CHECK(II[i].m[0] + II[i].m[2] + II[i].m[5] == doctest::Approx(2.0).epsilon(0.1));
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mesh/operators.h"
 #include "metric/surface_metric.h"
 
 namespace anisurf {
@@ -91,15 +92,50 @@ int min_points(const HessianRecoveryOptions& o) { return std::max(o.min_points, 
 
 // The fit at v: the requested degree on the requested rings, more rings (up
 // to 4) when the points do not determine it (grid corners, small meshes),
-// then degree 2. Throws MetricError when nothing determines a quadratic.
+// then degree 2. False when nothing determines a quadratic (a vertex of a
+// tiny component, a fin of aligned points): the caller fills it in
+// (fill_unfitted).
 template <class Value>
-void fit_at(const SurfaceMesh& mesh, Vertex v, RingCollector& rings, const Vec3& n, const HessianRecoveryOptions& o,
+bool fit_at(const SurfaceMesh& mesh, Vertex v, RingCollector& rings, const Vec3& n, const HessianRecoveryOptions& o,
             Value value, Vec3& gradient, SymTensor3& hessian) {
   for (int degree = std::min(std::max(o.degree, 2), 3); degree >= 2; --degree)
     for (int r = o.rings; r <= std::max(o.rings, 4); ++r)
-      if (fit_polynomial(mesh, v, rings.collect(v, r, min_points(o)), n, degree, value, gradient, hessian)) return;
-  throw MetricError("Hessian recovery: the neighbours of vertex " + std::to_string(v.idx + 1) +
-                    " do not determine a quadratic (too few or aligned points)");
+      if (fit_polynomial(mesh, v, rings.collect(v, r, min_points(o)), n, degree, value, gradient, hessian))
+        return true;
+  return false;
+}
+
+// Vertices without a fit take the mean of their fitted (or already filled)
+// neighbours, sweep after sweep; those with none in reach keep `fallback`.
+// Returns how many vertices had no fit.
+template <class T>
+int fill_unfitted(const SurfaceMesh& mesh, std::vector<T>& values, std::vector<char>& fitted, const T& fallback) {
+  int missing = 0;
+  for (int i = 0; i < mesh.vertex_capacity(); ++i)
+    if (!fitted[i] && !mesh.is_deleted(Vertex(i)) && !mesh.is_isolated(Vertex(i))) ++missing;
+  for (int sweep = 0, left = missing; left > 0 && sweep < 8; ++sweep) {
+    std::vector<int> filled;
+    for (int i = 0; i < mesh.vertex_capacity(); ++i) {
+      const Vertex v(i);
+      if (fitted[i] || mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+      T sum{};
+      int n = 0;
+      for (Vertex w : one_ring(mesh, v))
+        if (fitted[w.idx]) {
+          sum = sum + values[w.idx];
+          ++n;
+        }
+      if (n == 0) continue;
+      values[i] = (1.0 / n) * sum;
+      filled.push_back(i);
+    }
+    if (filled.empty()) break;
+    for (int i : filled) fitted[i] = 1;
+    left -= static_cast<int>(filled.size());
+  }
+  for (int i = 0; i < mesh.vertex_capacity(); ++i)
+    if (!fitted[i] && !mesh.is_deleted(Vertex(i)) && !mesh.is_isolated(Vertex(i))) values[i] = fallback;
+  return missing;
 }
 
 double default_hmax(const SurfaceMesh& mesh, double hmax) {
@@ -151,8 +187,9 @@ std::vector<Vec3> fitted_normals(const SurfaceMesh& mesh, const HessianRecoveryO
     // is spanned by (1, 0, a1), (0, 1, a2), its normal by (-a1, -a2, 1).
     Vec3 slope;
     SymTensor3 unused;
-    fit_at(mesh, v, rings, n, options, [&](Vertex w) { return dot(mesh.position(w) - p0, n); }, slope, unused);
-    normal[i] = normalized(n - slope);
+    // Without a fit the area-weighted normal stays.
+    if (fit_at(mesh, v, rings, n, options, [&](Vertex w) { return dot(mesh.position(w) - p0, n); }, slope, unused))
+      normal[i] = normalized(n - slope);
   }
   return normal;
 }
@@ -170,19 +207,25 @@ RecoveredDerivatives recover_derivatives(const SurfaceMesh& mesh, const std::vec
   out.gradient.assign(mesh.vertex_capacity(), Vec3());
   out.hessian.assign(mesh.vertex_capacity(), SymTensor3());
   RingCollector rings(mesh);
+  std::vector<char> fitted(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
   for (int i = 0; i < mesh.vertex_capacity(); ++i) {
     const Vertex v(i);
     if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
-    fit_at(mesh, v, rings, out.normal[i], options, [&](Vertex w) { return f[w.idx]; }, out.gradient[i],
-           out.hessian[i]);
+    fitted[i] = fit_at(mesh, v, rings, out.normal[i], options, [&](Vertex w) { return f[w.idx]; }, out.gradient[i],
+                       out.hessian[i]);
   }
+  std::vector<char> fitted_g = fitted;
+  out.unfitted = fill_unfitted(mesh, out.hessian, fitted, SymTensor3());
+  fill_unfitted(mesh, out.gradient, fitted_g, Vec3());
   return out;
 }
 
-std::vector<SymTensor3> recover_curvature(const SurfaceMesh& mesh, const HessianRecoveryOptions& options) {
+std::vector<SymTensor3> recover_curvature(const SurfaceMesh& mesh, const HessianRecoveryOptions& options,
+                                          int* unfitted) {
   const std::vector<Vec3> normal = fitted_normals(mesh, options);
   std::vector<SymTensor3> out(mesh.vertex_capacity());
   RingCollector rings(mesh);
+  std::vector<char> fitted(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
   for (int i = 0; i < mesh.vertex_capacity(); ++i) {
     const Vertex v(i);
     if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
@@ -190,8 +233,10 @@ std::vector<SymTensor3> recover_curvature(const SurfaceMesh& mesh, const Hessian
     Vec3 g;
     // Depth below the tangent plane: a sphere with outward normals has
     // curvature +1 / R.
-    fit_at(mesh, v, rings, n, options, [&](Vertex w) { return -dot(mesh.position(w) - p0, n); }, g, out[i]);
+    fitted[i] = fit_at(mesh, v, rings, n, options, [&](Vertex w) { return -dot(mesh.position(w) - p0, n); }, g, out[i]);
   }
+  const int missing = fill_unfitted(mesh, out, fitted, SymTensor3());
+  if (unfitted) *unfitted = missing;
   return out;
 }
 

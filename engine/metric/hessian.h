@@ -29,6 +29,10 @@ struct RecoveredDerivatives {
   std::vector<Vec3> gradient;       // in the tangent plane
   std::vector<SymTensor3> hessian;  // tangent Hessian, zero along the normal
   std::vector<Vec3> normal;         // the normals that defined the tangent planes
+  // Vertices whose neighbours (4 rings) do not determine a quadratic (a tiny
+  // component, aligned points): they take the mean of their neighbours'
+  // fits, or zero when none is in reach.
+  int unfitted = 0;
 };
 
 // Unit normals from a fit of the surface heights over the plane of the
@@ -42,7 +46,8 @@ std::vector<Vec3> fitted_normals(const SurfaceMesh& mesh, const HessianRecoveryO
 // for quadratic f on flat meshes, however irregular; on a curved surface H is
 // the Hessian of f over the tangent-plane parametrisation (the Riemannian
 // Hessian at v).
-// Throws MetricError if f has a non-finite value or a vertex too few neighbours.
+// Throws MetricError if f has a non-finite value; vertices without a fit:
+// RecoveredDerivatives::unfitted.
 RecoveredDerivatives recover_derivatives(const SurfaceMesh& mesh, const std::vector<double>& f,
                                          const HessianRecoveryOptions& options = {});
 
@@ -50,7 +55,10 @@ RecoveredDerivatives recover_derivatives(const SurfaceMesh& mesh, const std::vec
 // the depth below the tangent plane, -(p - p_v).n, fitted on the rings. Its
 // tangent eigenvalues are the principal curvatures, positive where the surface
 // bends away from the normal (unit sphere with outward normals: +1, +1).
-std::vector<SymTensor3> recover_curvature(const SurfaceMesh& mesh, const HessianRecoveryOptions& options = {});
+// Vertices without a fit (RecoveredDerivatives::unfitted) are counted in
+// *unfitted when given.
+std::vector<SymTensor3> recover_curvature(const SurfaceMesh& mesh, const HessianRecoveryOptions& options = {},
+                                          int* unfitted = nullptr);
 
 struct HessianMetricOptions {
   // Norm of the interpolation error: L^p, p >= 1, or infinity (the L^inf / BAMG
