@@ -312,9 +312,13 @@ Vec3 circle_tangent(const Vec3& a, const Vec3& v, const Vec3& b) {
 SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& options) {
   SurfaceFrames f;
   const int nc = 3 * mesh.triangle_capacity();
-  f.corner_normal_.assign(nc, Vec3());
   f.corner_sector_.assign(nc, -1);
-  f.tangent_.assign(2 * static_cast<std::size_t>(nc), Vec3());
+  f.tangent_slot_.assign(nc, -1);
+  for (int c = 0; c < nc; ++c)
+    if (!mesh.is_deleted(SurfaceMesh::triangle(Corner(c))) && is_feature_edge(mesh, Corner(c))) {
+      f.tangent_slot_[c] = static_cast<int>(f.tangent_.size());
+      f.tangent_.push_back({Vec3(), Vec3()});
+    }
 
   // 1. feature-curve tangents. Regular curve vertices (exactly two feature
   // edges, not corners) get the circle tangent through their two curve
@@ -347,12 +351,12 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
     const Corner o = mesh.opposite(e);
     if (o.is_valid() && o < e) {
       // the same curve seen from the other side: reuse it (exactly equal)
-      f.tangent_[2 * c] = f.tangent_[2 * o.idx + 1];
-      f.tangent_[2 * c + 1] = f.tangent_[2 * o.idx];
+      f.tangent(c, 0) = f.tangent(o.idx, 1);
+      f.tangent(c, 1) = f.tangent(o.idx, 0);
       continue;
     }
-    f.tangent_[2 * c] = end_tangent(a, b);
-    f.tangent_[2 * c + 1] = end_tangent(b, a);
+    f.tangent(c, 0) = end_tangent(a, b);
+    f.tangent(c, 1) = end_tangent(b, a);
   }
 
   // 2. sector normals
@@ -420,7 +424,6 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
       f.sector_normal_.push_back(n);
       f.sector_vertex_.push_back(vh);
       for (Corner c : sector) {
-        f.corner_normal_[c.idx] = n;
         f.corner_sector_[c.idx] = s;
       }
     }
@@ -516,8 +519,6 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
         f.sector_normal_[s] = normalized(f.sector_normal_[s] + x1 * b1[s] + x2 * b2[s]);
       }
     }
-    for (int c = 0; c < nc; ++c)
-      if (f.corner_sector_[c] >= 0) f.corner_normal_[c] = f.sector_normal_[f.corner_sector_[c]];
   }
   // 3b. a sector normal must see every triangle of its sector (else the patch
   // folds there): on noisy fans, tilt it towards the triangles it sees worst.
@@ -650,7 +651,7 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
     }
     for (const End& en : ends) {
       const Vec3& n1 = f.sector_normal_[en.s1];
-      Vec3& t = f.tangent_[2 * en.e.idx + (en.from ? 0 : 1)];
+      Vec3& t = f.tangent(en.e.idx, en.from ? 0 : 1);
       const Vec3 chord = mesh.position(en.from ? mesh.edge_to(en.e) : mesh.edge_from(en.e)) - mesh.position(vh);
       Vec3 nt;
       if (en.s2 >= 0 && root(local(en.s1)) != root(local(en.s2))) {
@@ -663,12 +664,10 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
       if (dot(nt, t) < 0 || (dot(t, t) == 0 && dot(nt, chord) < 0)) nt = -nt;
       t = nt;
       const Corner o = mesh.opposite(en.e);
-      if (o.is_valid()) f.tangent_[2 * o.idx + (en.from ? 1 : 0)] = nt;
+      if (o.is_valid()) f.tangent(o.idx, en.from ? 1 : 0) = nt;
       ++f.constrained;
     }
   }
-  for (int c = 0; c < nc; ++c)
-    if (f.corner_sector_[c] >= 0) f.corner_normal_[c] = f.sector_normal_[f.corner_sector_[c]];
   return f;
 }
 

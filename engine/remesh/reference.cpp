@@ -26,7 +26,7 @@ Projection PolyhedralSurface::project(const Vec3& x, std::span<const Hint> hints
 }
 
 BezierGeometry::BezierGeometry(const SurfaceMesh& mesh, Mode mode)
-    : locator_(mesh), surface_(mesh, compute_frames(mesh)), mode_(mode) {}
+    : surface_(mesh, compute_frames(mesh)), locator_(mesh), mode_(mode) {}
 
 Projection BezierGeometry::project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) {
   // Closest point of the G1 surface: Gauss-Newton on the parameters from the

@@ -74,8 +74,10 @@ class BezierGeometry final : public GeometrySurface {
   std::string name() const override { return "g1-bezier"; }
 
  private:
-  Locator locator_;
+  // The surface first: the frames it is built from are freed before the
+  // locator is built (the two do not add up at the peak memory).
   BezierSurface surface_;
+  Locator locator_;
   Mode mode_;
 };
 
