@@ -124,10 +124,42 @@ Vec3 blossom3(const Vec3 b[10], const double x[3], const double y[3], const doub
 }
 
 
+// Cubic point c3(i, j, l) = f(A^i, B^j, G^l) of subtriangle k (A = v_{k+1},
+// B = v_{k+2}, G the centre) of the macro cubic b.
+Vec3 sub_cubic(const Vec3 b[10], int k, int i, int j, int l) {
+  const double g3[3] = {1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0};
+  double A[3] = {0, 0, 0}, B[3] = {0, 0, 0};
+  A[(k + 1) % 3] = 1;
+  B[(k + 2) % 3] = 1;
+  const double* args[3] = {nullptr, nullptr, nullptr};
+  int n = 0;
+  for (int r = 0; r < i; ++r) args[n++] = A;
+  for (int r = 0; r < j; ++r) args[n++] = B;
+  for (int r = 0; r < l; ++r) args[n++] = g3;
+  return blossom3(b, args[0], args[1], args[2]);
+}
+
+// Quartic point (i, j, l) of subtriangle k: degree elevation of its cubic,
+// c4(I) = sum_m I_m / 4 c3(I - e_m).
+Vec3 sub_quartic(const Vec3 b[10], int k, int i, int j, int l) {
+  Vec3 q;
+  if (i > 0) q += (i / 4.0) * sub_cubic(b, k, i - 1, j, l);
+  if (j > 0) q += (j / 4.0) * sub_cubic(b, k, i, j - 1, l);
+  if (l > 0) q += (l / 4.0) * sub_cubic(b, k, i, j, l - 1);
+  return q;
+}
+
+// The first point of the inner edge v_j -> centre, as the split computes it
+// (subtriangles k = j + 2 and j + 1 share it; the larger k is the one kept).
+Vec3 inner_edge_start(const Vec3 b[10], int j) {
+  const int ka = (j + 2) % 3, kb = (j + 1) % 3;  // v_j is A of ka, B of kb
+  return ka > kb ? sub_quartic(b, ka, 3, 0, 1) : sub_quartic(b, kb, 0, 3, 1);
+}
+
 // Global index <-> slot of the points stored per triangle (see the header).
-constexpr int kStoredIdx[BezierSurface::kStoredPoints] = {13, 16, 19, 22, 23, 24, 25, 26, 27, 28, 29, 30};
+constexpr int kStoredIdx[BezierSurface::kStoredPoints] = {22, 23, 24, 25, 26, 27, 28, 29, 30};
 constexpr int kDerivedIdx[BezierSurface::kDerivedPoints] = {3, 14, 15, 17, 18, 20, 21};
-constexpr int stored_slot(int g) { return g < 22 ? (g - 13) / 3 : g - 19; }  // pre: g in kStoredIdx
+constexpr int stored_slot(int g) { return g - 22; }  // pre: g in kStoredIdx
 
 // Step 4: the centre and inner-edge points of a corrected triangle from the
 // Clough-Tocher C1 conditions across the inner edges v_j -> centre (diamonds:
@@ -219,16 +251,14 @@ void BezierSurface::fill_shared(const Macro& m, Patch& P) const {
     P[edge_point(k, 1)] = (E0 + E1) * 0.5;
     P[edge_point(k, 2)] = (3.0 * E1 + B) * 0.25;
   }
+  Vec3 b[10];
+  cubic_net(m, P, b);
+  for (int j = 0; j < 3; ++j) P[inner_point(j, 0)] = inner_edge_start(b, j);
 }
 
-// Section 3, steps 2-3: the cubic patch of triangle t (centre by the report's
-// formula), split at the barycentre and elevated to 3 quartics (31 points).
-BezierSurface::Patch BezierSurface::elevated_patch(int t) const {
-  const Macro& m = macro_[t];
-  Patch P{};
-  fill_shared(m, P);
-  const double g3[3] = {1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0};
-  Vec3 b[10];
+// Section 3, steps 1-2: the control net of the macro cubic (vertices, edge
+// points, centre by the report's formula), from P's vertices.
+void BezierSurface::cubic_net(const Macro& m, const Patch& P, Vec3 b[10]) const {
   const Vec3 v[3] = {P[0], P[1], P[2]};
   b[cubic_index(0, 0)] = v[0];
   b[cubic_index(3, 0)] = v[1];
@@ -248,6 +278,17 @@ BezierSurface::Patch BezierSurface::elevated_patch(int t) const {
   b[cubic_index(2, 0)] = E[2][1];  // (1,2,0): next to v1 towards v0
   // centre: 1/4 sum of the edge points - 1/6 sum of the vertices
   b[cubic_index(1, 1)] = sum_edges * 0.25 - (v[0] + v[1] + v[2]) * (1.0 / 6.0);
+}
+
+// Section 3, steps 2-3: the cubic patch of triangle t, split at the
+// barycentre and elevated to 3 quartics (31 points).
+BezierSurface::Patch BezierSurface::elevated_patch(int t) const {
+  const Macro& m = macro_[t];
+  Patch P{};
+  fill_shared(m, P);
+  const double g3[3] = {1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0};
+  Vec3 b[10];
+  cubic_net(m, P, b);
   // the other points: elevated blossoms of the cubic over each subtriangle
   for (int k = 0; k < 3; ++k) {
     double A[3] = {0, 0, 0}, B[3] = {0, 0, 0};
@@ -259,7 +300,7 @@ BezierSurface::Patch BezierSurface::elevated_patch(int t) const {
     for (int l = 0; l <= 3; ++l)
       for (int j = 0; j <= 3 - l; ++j) {
         const int i = 3 - j - l;
-        const double* args[3];
+        const double* args[3] = {nullptr, nullptr, nullptr};
         int n = 0;
         for (int r = 0; r < i; ++r) args[n++] = pts[0];
         for (int r = 0; r < j; ++r) args[n++] = pts[1];
@@ -323,8 +364,9 @@ std::vector<char> BezierSurface::correct_g1(const SurfaceMesh& mesh, const Surfa
       if (!o.is_valid() || o < e || is_feature_edge(mesh, e)) continue;
       const int t2 = SurfaceMesh::triangle(o).idx;
       const int k2 = SurfaceMesh::local_index(o);
-      Patch shared{};
+      Patch shared{}, shared2{};
       fill_shared(macro_[t], shared);
+      fill_shared(macro_[t2], shared2);
       // boundary curve, canonical direction P -> Q
       const Vec3 b0 = shared[(k1 + 1) % 3], b3 = shared[(k1 + 2) % 3];
       Vec3 b1, b2;
@@ -339,10 +381,10 @@ std::vector<char> BezierSurface::correct_g1(const SurfaceMesh& mesh, const Surfa
       auto& SA = stored_[t];
       auto& SB = stored_[t2];
       // rows next to the edge, in the canonical direction
-      Vec3* rowA[4] = {&SA[stored_slot(inner_point((k1 + 1) % 3, 0))], &SA[stored_slot(d1_point(k1))],
-                       &SA[stored_slot(d2_point(k1))], &SA[stored_slot(inner_point((k1 + 2) % 3, 0))]};
-      Vec3* rowB[4] = {&SB[stored_slot(inner_point((k2 + 2) % 3, 0))], &SB[stored_slot(d2_point(k2))],
-                       &SB[stored_slot(d1_point(k2))], &SB[stored_slot(inner_point((k2 + 1) % 3, 0))]};
+      Vec3* rowA[4] = {&shared[inner_point((k1 + 1) % 3, 0)], &SA[stored_slot(d1_point(k1))],
+                       &SA[stored_slot(d2_point(k1))], &shared[inner_point((k1 + 2) % 3, 0)]};
+      Vec3* rowB[4] = {&shared2[inner_point((k2 + 2) % 3, 0)], &SB[stored_slot(d2_point(k2))],
+                       &SB[stored_slot(d1_point(k2))], &shared2[inner_point((k2 + 1) % 3, 0)]};
       auto correct = [&](Vec3* row[4], Vec3& delta1, Vec3& delta2) {
         // cross-boundary vectors X_i = row_i - (c_i + c_{i+1}) / 2
         const Vec3 X0 = *row[0] - 0.5 * (c[0] + c[1]);

@@ -91,12 +91,14 @@ class BezierSurface {
   //  - the vertices, per vertex slot;
   //  - the two cubic control points of every edge (step 1), shared by both
   //    sides: the macro edge's quartic points follow by degree elevation;
-  //  - per triangle the 12 points the G1 corrections set (step 4: the rows
-  //    next to the macro edges and the free inner points, 13 + 3j and 22-30);
+  //  - the first point of each inner edge (13 + 3j) follows from the cubic
+  //    (the G1 corrections leave it);
+  //  - per triangle the 9 points the G1 corrections set (step 4: the two
+  //    points next to each macro edge and the free inner points, 22-30);
   //  - the centre and the other 6 inner-edge points (3, 13 + 3j + {1, 2})
   //    follow from the Clough-Tocher C1 conditions on a corrected triangle,
   //    and are stored (`derived_`) only on the others.
-  static constexpr int kStoredPoints = 12;
+  static constexpr int kStoredPoints = 9;
   static constexpr int kDerivedPoints = 7;
 
  private:
@@ -109,6 +111,7 @@ class BezierSurface {
   void build_edges(const SurfaceMesh& mesh, const SurfaceFrames& frames, const BezierOptions& options);
   void edge_cubic(const Macro& m, int k, Vec3& p1, Vec3& p2) const;
   void fill_shared(const Macro& m, Patch& P) const;
+  void cubic_net(const Macro& m, const Patch& P, Vec3 b[10]) const;
   Patch elevated_patch(int t) const;
   std::vector<char> correct_g1(const SurfaceMesh& mesh, const SurfaceFrames& frames, const BezierOptions& options);
 
