@@ -17,9 +17,9 @@ struct Locator::Data {
   // Triangles, by slot (deleted slots: tv[3t] == -1).
   int n_slots = 0;
   std::vector<int> tv;            // 3 vertex ids per slot
-  // Per slot: positions and a bounding ball (centroid, radius), together for locality.
+  // Per slot: a bounding ball (centroid, radius); the positions are the
+  // mesh's (through tv), not copied.
   struct Tri {
-    Vec3 p[3];
     Vec3 c;
     double r = 0;
   };
@@ -41,10 +41,8 @@ struct Locator::Data {
   std::vector<int> corners;  // vertex ids
   AabbTree corner_tree;
 
-  double tri_d2(const Vec3& x, int t) const {
-    const Vec3* p = tri[static_cast<std::size_t>(t)].p;
-    return point_triangle_distance2(x, p[0], p[1], p[2]);
-  }
+  const Vec3& pos(int t, int k) const { return mesh->position(Vertex(tv[3 * static_cast<std::size_t>(t) + k])); }
+  double tri_d2(const Vec3& x, int t) const { return point_triangle_distance2(x, pos(t, 0), pos(t, 1), pos(t, 2)); }
   double seg_d2(const Vec3& x, int e) const {
     return point_segment_distance2(x, fe_p[2 * static_cast<std::size_t>(e)], fe_p[2 * static_cast<std::size_t>(e) + 1]);
   }
@@ -109,16 +107,17 @@ void Locator::Data::build_triangles() {
   pairs.reserve(3 * static_cast<std::size_t>(n_slots));
   for (int t = 0; t < n_slots; ++t) {
     if (m.is_deleted(Triangle(t))) continue;
+    Vec3 p[3];
     for (int k = 0; k < 3; ++k) {
       const Vertex v = m.vertex(Triangle(t), k);
       tv[3 * t + k] = v.idx;
-      tri[t].p[k] = m.position(v);
+      p[k] = m.position(v);
       pairs.push_back({v.idx, t});
     }
-    boxes[t] = box_of(tri[t].p, 3);
+    boxes[t] = box_of(p, 3);
     Tri& T = tri[t];
-    T.c = (T.p[0] + T.p[1] + T.p[2]) / 3.0;
-    T.r = std::max({norm(T.p[0] - T.c), norm(T.p[1] - T.c), norm(T.p[2] - T.c)}) * (1 + 1e-12);
+    T.c = (p[0] + p[1] + p[2]) / 3.0;
+    T.r = std::max({norm(p[0] - T.c), norm(p[1] - T.c), norm(p[2] - T.c)}) * (1 + 1e-12);
   }
   build_csr(m.vertex_capacity(), pairs, vt_first, vt);
   tree.build(boxes);
@@ -254,8 +253,7 @@ Location Locator::project(const Vec3& x, std::span<const Hint> hints, Constraint
 Location Locator::free_result(const Vec3& x, int t, int steps, bool fallback) const {
   Location r;
   if (t < 0) return r;
-  const Vec3* p = d_->tri[static_cast<std::size_t>(t)].p;
-  const TriangleClosest c = closest_point_on_triangle(x, p[0], p[1], p[2]);
+  const TriangleClosest c = closest_point_on_triangle(x, d_->pos(t, 0), d_->pos(t, 1), d_->pos(t, 2));
   r.triangle = Triangle(t);
   r.bary = c.bary;
   r.point = c.point;
@@ -319,8 +317,8 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
     dK = bd;
     if (++steps >= D.options.max_steps) return global(K, dK, steps);
   }
-  if (Data::certified(x, std::sqrt(dK), &D.tv[3 * static_cast<std::size_t>(K)], D.tri[static_cast<std::size_t>(K)].p, 3,
-                      D.vclear))
+  const Vec3 pK[3] = {D.pos(K, 0), D.pos(K, 1), D.pos(K, 2)};
+  if (Data::certified(x, std::sqrt(dK), &D.tv[3 * static_cast<std::size_t>(K)], pK, 3, D.vclear))
     return free_result(x, K, steps, false);
   return global(K, dK, steps);
 }
