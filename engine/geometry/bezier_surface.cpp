@@ -124,36 +124,23 @@ Vec3 blossom3(const Vec3 b[10], const double x[3], const double y[3], const doub
 }
 
 
-// Cubic point c3(i, j, l) = f(A^i, B^j, G^l) of subtriangle k (A = v_{k+1},
-// B = v_{k+2}, G the centre) of the macro cubic b.
-Vec3 sub_cubic(const Vec3 b[10], int k, int i, int j, int l) {
-  const double g3[3] = {1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0};
-  double A[3] = {0, 0, 0}, B[3] = {0, 0, 0};
-  A[(k + 1) % 3] = 1;
-  B[(k + 2) % 3] = 1;
-  const double* args[3] = {nullptr, nullptr, nullptr};
-  int n = 0;
-  for (int r = 0; r < i; ++r) args[n++] = A;
-  for (int r = 0; r < j; ++r) args[n++] = B;
-  for (int r = 0; r < l; ++r) args[n++] = g3;
-  return blossom3(b, args[0], args[1], args[2]);
-}
-
-// Quartic point (i, j, l) of subtriangle k: degree elevation of its cubic,
-// c4(I) = sum_m I_m / 4 c3(I - e_m).
-Vec3 sub_quartic(const Vec3 b[10], int k, int i, int j, int l) {
-  Vec3 q;
-  if (i > 0) q += (i / 4.0) * sub_cubic(b, k, i - 1, j, l);
-  if (j > 0) q += (j / 4.0) * sub_cubic(b, k, i, j - 1, l);
-  if (l > 0) q += (l / 4.0) * sub_cubic(b, k, i, j, l - 1);
-  return q;
-}
-
 // The first point of the inner edge v_j -> centre, as the split computes it
-// (subtriangles k = j + 2 and j + 1 share it; the larger k is the one kept).
-Vec3 inner_edge_start(const Vec3 b[10], int j) {
-  const int ka = (j + 2) % 3, kb = (j + 1) % 3;  // v_j is A of ka, B of kb
-  return ka > kb ? sub_quartic(b, ka, 3, 0, 1) : sub_quartic(b, kb, 0, 3, 1);
+// (both subtriangles beside the inner edge give the same expression): the
+// elevation 3/4 f(v_j, v_j, G) + 1/4 f(v_j, v_j, v_j) of the blossom of the
+// macro cubic, f(v_j, v_j, G) the mean of the cubic points (2 e_j + e_s),
+// s = 0, 1, 2, summed in blossom3's order. v: the vertices, E[k]: the cubic
+// points of the side opposite v_k, from v_{k+1}.
+Vec3 inner_edge_start(const Vec3 v[3], const Vec3 E[3][2], int j) {
+  const double g = 1.0 / 3.0;
+  // cubic points 2 e_j + e_s for s = 0, 1, 2
+  const Vec3* c[3][3] = {{&v[0], &E[2][0], &E[1][1]}, {&E[2][1], &v[1], &E[0][0]}, {&E[1][0], &E[0][1], &v[2]}};
+  Vec3 f2g, f3;
+  for (int s = 0; s < 3; ++s) f2g += (1.0 * 1.0 * g) * *c[j][s];
+  f3 += (1.0 * 1.0 * 1.0) * v[j];
+  Vec3 q;
+  q += 0.75 * f2g;
+  q += 0.25 * f3;
+  return q;
 }
 
 // Global index <-> slot of the points stored per triangle (see the header).
@@ -242,18 +229,17 @@ void BezierSurface::edge_cubic(const Macro& m, int k, Vec3& p1, Vec3& p2) const 
 // edges (degree elevation of the cubic edge: bitwise equal on both sides).
 void BezierSurface::fill_shared(const Macro& m, Patch& P) const {
   for (int k = 0; k < 3; ++k) P[k] = vertex_[m.vertex[k]];
+  Vec3 E[3][2];
   for (int k = 0; k < 3; ++k) {
-    Vec3 E0, E1;
-    edge_cubic(m, k, E0, E1);
+    edge_cubic(m, k, E[k][0], E[k][1]);
     const Vec3& A = P[(k + 1) % 3];
     const Vec3& B = P[(k + 2) % 3];
-    P[edge_point(k, 0)] = (A + 3.0 * E0) * 0.25;
-    P[edge_point(k, 1)] = (E0 + E1) * 0.5;
-    P[edge_point(k, 2)] = (3.0 * E1 + B) * 0.25;
+    P[edge_point(k, 0)] = (A + 3.0 * E[k][0]) * 0.25;
+    P[edge_point(k, 1)] = (E[k][0] + E[k][1]) * 0.5;
+    P[edge_point(k, 2)] = (3.0 * E[k][1] + B) * 0.25;
   }
-  Vec3 b[10];
-  cubic_net(m, P, b);
-  for (int j = 0; j < 3; ++j) P[inner_point(j, 0)] = inner_edge_start(b, j);
+  const Vec3 v[3] = {P[0], P[1], P[2]};
+  for (int j = 0; j < 3; ++j) P[inner_point(j, 0)] = inner_edge_start(v, E, j);
 }
 
 // Section 3, steps 1-2: the control net of the macro cubic (vertices, edge
