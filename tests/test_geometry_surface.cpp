@@ -331,3 +331,45 @@ TEST_CASE("sample: ridges stay ridges, corners stay corners, triangle references
     CHECK(dist < 1e-12);
   }
 }
+
+TEST_CASE("surface: the stored points assemble patches that agree bitwise along every edge and satisfy the C1 conditions") {
+  // Each point is stored once (vertices, 2 cubic points per edge, the 9
+  // corrected points per triangle) and the rest recomputed: both sides of an
+  // edge must rebuild the very same boundary curve, and a corrected patch its
+  // centre and inner-edge points from the Clough-Tocher C1 conditions.
+  ANISURF_REQUIRE_SHARED(path, "bench/inputs/hemi.mesh");
+  for (const bool g1 : {true, false}) {
+    BezierOptions bo;
+    bo.g1_corrections = g1;
+    const Built b = reconstruct(load_mesh(path), {}, bo);
+    const SurfaceMesh& m = b.mesh;
+    int compared = 0;
+    double c1_gap = 0;
+    for (int t = 0; t < m.triangle_capacity(); ++t) {
+      if (m.is_deleted(Triangle(t))) continue;
+      const BezierSurface::Patch P = b.surface.patch(Triangle(t));
+      for (int k = 0; k < 3; ++k) {
+        const Corner c = SurfaceMesh::corner(Triangle(t), k), o = m.opposite(c);
+        if (!o.is_valid()) continue;
+        const BezierSurface::Patch Q = b.surface.patch(SurfaceMesh::triangle(o));
+        const int ko = SurfaceMesh::local_index(o);
+        for (int i = 0; i < 3; ++i) {
+          const Vec3& p = P[4 + 3 * k + i];
+          const Vec3& q = Q[4 + 3 * ko + 2 - i];
+          CHECK((p.x == q.x && p.y == q.y && p.z == q.z));
+        }
+        ++compared;
+      }
+      // diamonds: inner-edge point (j, 1) is the mean of (j, 0) and the two
+      // points beside it; (j, 2) likewise; the centre the mean of the (j, 2)
+      for (int j = 0; j < 3; ++j) {
+        const Vec3 m1 = (P[22 + 2 * ((j + 2) % 3)] + P[23 + 2 * ((j + 1) % 3)] + P[13 + 3 * j]) / 3.0;
+        const Vec3 m2 = (P[28 + (j + 2) % 3] + P[28 + (j + 1) % 3] + P[14 + 3 * j]) / 3.0;
+        c1_gap = std::fmax(c1_gap, std::fmax(norm(P[14 + 3 * j] - m1), norm(P[15 + 3 * j] - m2)));
+      }
+      c1_gap = std::fmax(c1_gap, norm(P[3] - (P[15] + P[18] + P[21]) / 3.0));
+    }
+    CHECK(compared > 0);
+    CHECK(c1_gap < 1e-14);
+  }
+}

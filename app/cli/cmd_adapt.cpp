@@ -221,6 +221,7 @@ int run_adapt(const std::vector<std::string>& args) {
     gradate_metric(input, metric, g);
   }
   check_metric_field(input, metric, report.vertex_origin);
+  if (!metric_name.empty()) input.remove_field(metric_name);  // read into `metric`: T_0 need not keep it
 
   // T_G: the input itself, or another mesh of the same surface (--geometry).
   SurfaceMesh separate_geometry;
@@ -236,7 +237,7 @@ int run_adapt(const std::vector<std::string>& args) {
   else
     geometry = std::make_unique<remesh::BezierGeometry>(
         tg, surface == "g1-closest" ? remesh::BezierGeometry::Mode::Closest : remesh::BezierGeometry::Mode::Parametric);
-  remesh::ControlSpace control(input, metric, !separate, interpolation,
+  remesh::ControlSpace control(input, std::move(metric), !separate, interpolation,
                                metric_name.empty() ? "metric" : metric_name);
   const LengthFormula formula = length == "log" ? LengthFormula::LinearSize : LengthFormula::LinearMetric;
   remesh::AdaptedMesh adapted(input, *geometry, control, formula, separate);

@@ -123,16 +123,74 @@ Vec3 blossom3(const Vec3 b[10], const double x[3], const double y[3], const doub
   return r;
 }
 
+
+// The first point of the inner edge v_j -> centre, as the split computes it
+// (both subtriangles beside the inner edge give the same expression): the
+// elevation 3/4 f(v_j, v_j, G) + 1/4 f(v_j, v_j, v_j) of the blossom of the
+// macro cubic, f(v_j, v_j, G) the mean of the cubic points (2 e_j + e_s),
+// s = 0, 1, 2, summed in blossom3's order. v: the vertices, E[k]: the cubic
+// points of the side opposite v_k, from v_{k+1}.
+Vec3 inner_edge_start(const Vec3 v[3], const Vec3 E[3][2], int j) {
+  const double g = 1.0 / 3.0;
+  // cubic points 2 e_j + e_s for s = 0, 1, 2
+  const Vec3* c[3][3] = {{&v[0], &E[2][0], &E[1][1]}, {&E[2][1], &v[1], &E[0][0]}, {&E[1][0], &E[0][1], &v[2]}};
+  Vec3 f2g, f3;
+  for (int s = 0; s < 3; ++s) f2g += (1.0 * 1.0 * g) * *c[j][s];
+  f3 += (1.0 * 1.0 * 1.0) * v[j];
+  Vec3 q;
+  q += 0.75 * f2g;
+  q += 0.25 * f3;
+  return q;
+}
+
+// Global index <-> slot of the points stored per triangle (see the header).
+constexpr int kStoredIdx[BezierSurface::kStoredPoints] = {22, 23, 24, 25, 26, 27, 28, 29, 30};
+constexpr int kDerivedIdx[BezierSurface::kDerivedPoints] = {3, 14, 15, 17, 18, 20, 21};
+constexpr int stored_slot(int g) { return g - 22; }  // pre: g in kStoredIdx
+
+// Step 4: the centre and inner-edge points of a corrected triangle from the
+// Clough-Tocher C1 conditions across the inner edges v_j -> centre (diamonds:
+// the edge point nearer the centre is the mean of its neighbour nearer v_j and
+// the two points beside it).
+void apply_c1_conditions(BezierSurface::Patch& P) {
+  for (int j = 0; j < 3; ++j)
+    P[inner_point(j, 1)] = (P[d1_point((j + 2) % 3)] + P[d2_point((j + 1) % 3)] + P[inner_point(j, 0)]) / 3.0;
+  for (int j = 0; j < 3; ++j)
+    P[inner_point(j, 2)] = (P[e_point((j + 2) % 3)] + P[e_point((j + 1) % 3)] + P[inner_point(j, 1)]) / 3.0;
+  P[3] = (P[inner_point(0, 2)] + P[inner_point(1, 2)] + P[inner_point(2, 2)]) / 3.0;
+}
+
 }  // namespace
 
-BezierSurface::BezierSurface(const SurfaceMesh& mesh, const SurfaceFrames& frames, const BezierOptions& options) {
+// Section 3, storage: vertices copied, one id per edge (its canonical corner).
+void BezierSurface::index_mesh(const SurfaceMesh& mesh) {
   const int nt = mesh.triangle_capacity();
-  patches_.assign(nt, Patch{});
-
-  // 1. cubic edge control points, once per edge (canonical corner): [0] next to
-  // edge_from, [1] next to edge_to.
-  std::vector<std::array<Vec3, 2>> edge_ctrl(3 * static_cast<std::size_t>(nt));
+  vertex_.resize(mesh.vertex_capacity());
+  for (int v = 0; v < mesh.vertex_capacity(); ++v) vertex_[v] = mesh.position(Vertex(v));
+  macro_.assign(nt, Macro{});
+  int n_edges = 0;
   for (int t = 0; t < nt; ++t) {
+    if (mesh.is_deleted(Triangle(t))) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Corner c = SurfaceMesh::corner(Triangle(t), k);
+      if (mesh.canonical(c) == c) macro_[t].edge[k] = n_edges++;
+    }
+  }
+  for (int t = 0; t < nt; ++t) {
+    if (mesh.is_deleted(Triangle(t))) continue;
+    for (int k = 0; k < 3; ++k) {
+      macro_[t].vertex[k] = mesh.vertex(Triangle(t), k).idx;
+      const Corner c = SurfaceMesh::corner(Triangle(t), k), e = mesh.canonical(c);
+      if (e != c) macro_[t].edge[k] = ~macro_[SurfaceMesh::triangle(e).idx].edge[SurfaceMesh::local_index(e)];
+    }
+  }
+  edge_.assign(n_edges, {});
+}
+
+// Section 3, step 1: the cubic edge control points, once per edge, in the
+// tangent planes of the end vertices (or along the feature curve tangents).
+void BezierSurface::build_edges(const SurfaceMesh& mesh, const SurfaceFrames& frames, const BezierOptions& options) {
+  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
     if (mesh.is_deleted(Triangle(t))) continue;
     for (int k = 0; k < 3; ++k) {
       const Corner e = SurfaceMesh::corner(Triangle(t), k);
@@ -150,95 +208,139 @@ BezierSurface::BezierSurface(const SurfaceMesh& mesh, const SurfaceFrames& frame
         da = normalized(ab - dot(ab, na) * na);
         db = normalized(-ab + dot(ab, nb) * nb);
       }
-      edge_ctrl[e.idx] = {a + handle(b - a, da, options.handle), b + handle(a - b, db, options.handle)};
+      edge_[macro_[t].edge[k]] = {a + handle(b - a, da, options.handle), b + handle(a - b, db, options.handle)};
     }
   }
-  // cubic points of the edge opposite corner c, from edge_from(c) to edge_to(c)
-  auto edge_cubic = [&](Corner c, Vec3& p1, Vec3& p2) {
-    const Corner e = mesh.canonical(c);
-    if (e == c) {
-      p1 = edge_ctrl[e.idx][0];
-      p2 = edge_ctrl[e.idx][1];
-    } else {
-      p1 = edge_ctrl[e.idx][1];
-      p2 = edge_ctrl[e.idx][0];
-    }
-  };
+}
 
-  // 2. per triangle: cubic patch, centre point, split, elevation
+// Cubic points of the side opposite vertex k, from vertex k+1 to vertex k+2.
+void BezierSurface::edge_cubic(const Macro& m, int k, Vec3& p1, Vec3& p2) const {
+  const int e = m.edge[k];
+  if (e >= 0) {
+    p1 = edge_[e][0];
+    p2 = edge_[e][1];
+  } else {
+    p1 = edge_[~e][1];
+    p2 = edge_[~e][0];
+  }
+}
+
+// The shared points of a patch: vertices and the quartic points of the macro
+// edges (degree elevation of the cubic edge: bitwise equal on both sides).
+void BezierSurface::fill_shared(const Macro& m, Patch& P) const {
+  for (int k = 0; k < 3; ++k) P[k] = vertex_[m.vertex[k]];
+  Vec3 E[3][2];
+  for (int k = 0; k < 3; ++k) {
+    edge_cubic(m, k, E[k][0], E[k][1]);
+    const Vec3& A = P[(k + 1) % 3];
+    const Vec3& B = P[(k + 2) % 3];
+    P[edge_point(k, 0)] = (A + 3.0 * E[k][0]) * 0.25;
+    P[edge_point(k, 1)] = (E[k][0] + E[k][1]) * 0.5;
+    P[edge_point(k, 2)] = (3.0 * E[k][1] + B) * 0.25;
+  }
+  const Vec3 v[3] = {P[0], P[1], P[2]};
+  for (int j = 0; j < 3; ++j) P[inner_point(j, 0)] = inner_edge_start(v, E, j);
+}
+
+// Section 3, steps 1-2: the control net of the macro cubic (vertices, edge
+// points, centre by the report's formula), from P's vertices.
+void BezierSurface::cubic_net(const Macro& m, const Patch& P, Vec3 b[10]) const {
+  const Vec3 v[3] = {P[0], P[1], P[2]};
+  b[cubic_index(0, 0)] = v[0];
+  b[cubic_index(3, 0)] = v[1];
+  b[cubic_index(0, 3)] = v[2];
+  Vec3 sum_edges;
+  Vec3 E[3][2];
+  for (int k = 0; k < 3; ++k) {
+    edge_cubic(m, k, E[k][0], E[k][1]);
+    sum_edges += E[k][0] + E[k][1];
+  }
+  // (i1, i2) = powers of v1, v2; E[k] runs from v_{k+1} to v_{k+2}
+  b[cubic_index(2, 1)] = E[0][0];  // (0,2,1): next to v1 towards v2
+  b[cubic_index(1, 2)] = E[0][1];  // (0,1,2): next to v2 towards v1
+  b[cubic_index(0, 2)] = E[1][0];  // (1,0,2): next to v2 towards v0
+  b[cubic_index(0, 1)] = E[1][1];  // (2,0,1): next to v0 towards v2
+  b[cubic_index(1, 0)] = E[2][0];  // (2,1,0): next to v0 towards v1
+  b[cubic_index(2, 0)] = E[2][1];  // (1,2,0): next to v1 towards v0
+  // centre: 1/4 sum of the edge points - 1/6 sum of the vertices
+  b[cubic_index(1, 1)] = sum_edges * 0.25 - (v[0] + v[1] + v[2]) * (1.0 / 6.0);
+}
+
+// Section 3, steps 2-3: the cubic patch of triangle t, split at the
+// barycentre and elevated to 3 quartics (31 points).
+BezierSurface::Patch BezierSurface::elevated_patch(int t) const {
+  const Macro& m = macro_[t];
+  Patch P{};
+  fill_shared(m, P);
   const double g3[3] = {1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0};
-  for (int t = 0; t < nt; ++t) {
-    const Triangle tri(t);
-    if (mesh.is_deleted(tri)) continue;
-    Patch& P = patches_[t];
-    Vec3 b[10];
-    Vec3 v[3];
-    for (int k = 0; k < 3; ++k) v[k] = mesh.position(mesh.vertex(tri, k));
-    b[cubic_index(0, 0)] = v[0];
-    b[cubic_index(3, 0)] = v[1];
-    b[cubic_index(0, 3)] = v[2];
-    Vec3 sum_edges;
-    Vec3 E[3][2];
-    for (int k = 0; k < 3; ++k) {
-      edge_cubic(SurfaceMesh::corner(tri, k), E[k][0], E[k][1]);
-      sum_edges += E[k][0] + E[k][1];
-    }
-    // (i1, i2) = powers of v1, v2; E[k] runs from v_{k+1} to v_{k+2}
-    b[cubic_index(2, 1)] = E[0][0];  // (0,2,1): next to v1 towards v2
-    b[cubic_index(1, 2)] = E[0][1];  // (0,1,2): next to v2 towards v1
-    b[cubic_index(0, 2)] = E[1][0];  // (1,0,2): next to v2 towards v0
-    b[cubic_index(0, 1)] = E[1][1];  // (2,0,1): next to v0 towards v2
-    b[cubic_index(1, 0)] = E[2][0];  // (2,1,0): next to v0 towards v1
-    b[cubic_index(2, 0)] = E[2][1];  // (1,2,0): next to v1 towards v0
-    // centre: 1/4 sum of the edge points - 1/6 sum of the vertices
-    b[cubic_index(1, 1)] = sum_edges * 0.25 - (v[0] + v[1] + v[2]) * (1.0 / 6.0);
-
-    // shared points straight from the edge data (bitwise equal on both sides)
-    for (int k = 0; k < 3; ++k) {
-      P[k] = v[k];
-      const Vec3& A = v[(k + 1) % 3];
-      const Vec3& B = v[(k + 2) % 3];
-      P[edge_point(k, 0)] = (A + 3.0 * E[k][0]) * 0.25;
-      P[edge_point(k, 1)] = (E[k][0] + E[k][1]) * 0.5;
-      P[edge_point(k, 2)] = (3.0 * E[k][1] + B) * 0.25;
-    }
-    // the other points: elevated blossoms of the cubic over each subtriangle
-    for (int k = 0; k < 3; ++k) {
-      double A[3] = {0, 0, 0}, B[3] = {0, 0, 0};
-      A[(k + 1) % 3] = 1;
-      B[(k + 2) % 3] = 1;
-      const double* pts[3] = {A, B, g3};
-      // cubic subpatch c3(i, j, l) = f(A^i, B^j, G^l)
-      Vec3 c3[10];
-      for (int l = 0; l <= 3; ++l)
-        for (int j = 0; j <= 3 - l; ++j) {
-          const int i = 3 - j - l;
-          const double* args[3];
-          int n = 0;
-          for (int r = 0; r < i; ++r) args[n++] = pts[0];
-          for (int r = 0; r < j; ++r) args[n++] = pts[1];
-          for (int r = 0; r < l; ++r) args[n++] = pts[2];
-          c3[tri_index(3, j, l)] = blossom3(b, args[0], args[1], args[2]);
-        }
-      // degree elevation: c4(I) = sum_m I_m / 4 c3(I - e_m)
-      for (int l = 0; l <= 4; ++l)
-        for (int j = 0; j <= 4 - l; ++j) {
-          const int i = 4 - j - l;
-          if (l == 0) continue;  // macro edge row: set above
-          if (i == 4 || j == 4) continue;
-          Vec3 q;
-          if (i > 0) q += (i / 4.0) * c3[tri_index(3, j, l)];
-          if (j > 0) q += (j / 4.0) * c3[tri_index(3, j - 1, l)];
-          if (l > 0) q += (l / 4.0) * c3[tri_index(3, j, l - 1)];
-          P[global_index(k, i, j, l)] = q;
-        }
-    }
+  Vec3 b[10];
+  cubic_net(m, P, b);
+  // the other points: elevated blossoms of the cubic over each subtriangle
+  for (int k = 0; k < 3; ++k) {
+    double A[3] = {0, 0, 0}, B[3] = {0, 0, 0};
+    A[(k + 1) % 3] = 1;
+    B[(k + 2) % 3] = 1;
+    const double* pts[3] = {A, B, g3};
+    // cubic subpatch c3(i, j, l) = f(A^i, B^j, G^l)
+    Vec3 c3[10];
+    for (int l = 0; l <= 3; ++l)
+      for (int j = 0; j <= 3 - l; ++j) {
+        const int i = 3 - j - l;
+        const double* args[3] = {nullptr, nullptr, nullptr};
+        int n = 0;
+        for (int r = 0; r < i; ++r) args[n++] = pts[0];
+        for (int r = 0; r < j; ++r) args[n++] = pts[1];
+        for (int r = 0; r < l; ++r) args[n++] = pts[2];
+        c3[tri_index(3, j, l)] = blossom3(b, args[0], args[1], args[2]);
+      }
+    // degree elevation: c4(I) = sum_m I_m / 4 c3(I - e_m)
+    for (int l = 0; l <= 4; ++l)
+      for (int j = 0; j <= 4 - l; ++j) {
+        const int i = 4 - j - l;
+        if (l == 0) continue;  // macro edge row: shared points
+        if (i == 4 || j == 4) continue;
+        Vec3 q;
+        if (i > 0) q += (i / 4.0) * c3[tri_index(3, j, l)];
+        if (j > 0) q += (j / 4.0) * c3[tri_index(3, j - 1, l)];
+        if (l > 0) q += (l / 4.0) * c3[tri_index(3, j, l - 1)];
+        P[global_index(k, i, j, l)] = q;
+      }
   }
+  return P;
+}
 
-  if (!options.g1_corrections) return;
+BezierSurface::BezierSurface(const SurfaceMesh& mesh, const SurfaceFrames& frames, const BezierOptions& options) {
+  index_mesh(mesh);
+  build_edges(mesh, frames, options);
+  const int nt = mesh.triangle_capacity();
+  stored_.assign(nt, {});
+  for (int t = 0; t < nt; ++t) {
+    if (macro_[t].vertex[0] < 0) continue;
+    const Patch P = elevated_patch(t);
+    for (int i = 0; i < kStoredPoints; ++i) stored_[t][i] = P[kStoredIdx[i]];
+  }
+  const std::vector<char> corrected =
+      options.g1_corrections ? correct_g1(mesh, frames, options) : std::vector<char>(nt, 0);
+  // the triangles left as elevated keep their own centre and inner-edge points
+  for (int t = 0; t < nt; ++t) {
+    if (macro_[t].vertex[0] < 0 || corrected[t]) continue;
+    const Patch P = elevated_patch(t);
+    macro_[t].derived = static_cast<int>(derived_.size());
+    derived_.emplace_back();
+    for (int i = 0; i < kDerivedPoints; ++i) derived_.back()[i] = P[kDerivedIdx[i]];
+  }
+  derived_.shrink_to_fit();
+}
 
-  // 3. G1 corrections across interior non-feature edges
-  std::vector<std::array<Vec3, 6>> delta(nt);  // per triangle: d1, d2 of subtriangles 0..2
+// Section 3, step 4: G1 corrections across interior non-feature edges; the
+// free inner point of each subtriangle moves by the weighted sum of the
+// corrections of its two points next to the macro edge. Returns the
+// triangles corrected (their centre and inner-edge points then follow from
+// the C1 conditions).
+std::vector<char> BezierSurface::correct_g1(const SurfaceMesh& mesh, const SurfaceFrames& frames,
+                                            const BezierOptions& options) {
+  const int nt = mesh.triangle_capacity();
+  const double w = options.inner_correction_weight;
   std::vector<char> touched(nt, 0);
   for (int t = 0; t < nt; ++t) {
     if (mesh.is_deleted(Triangle(t))) continue;
@@ -248,24 +350,27 @@ BezierSurface::BezierSurface(const SurfaceMesh& mesh, const SurfaceFrames& frame
       if (!o.is_valid() || o < e || is_feature_edge(mesh, e)) continue;
       const int t2 = SurfaceMesh::triangle(o).idx;
       const int k2 = SurfaceMesh::local_index(o);
-      Patch& PA = patches_[t];
-      Patch& PB = patches_[t2];
+      Patch shared{}, shared2{};
+      fill_shared(macro_[t], shared);
+      fill_shared(macro_[t2], shared2);
       // boundary curve, canonical direction P -> Q
-      const Vec3 b0 = PA[(k1 + 1) % 3], b3 = PA[(k1 + 2) % 3];
+      const Vec3 b0 = shared[(k1 + 1) % 3], b3 = shared[(k1 + 2) % 3];
       Vec3 b1, b2;
-      edge_cubic(e, b1, b2);
-      const Vec3 c[5] = {b0, PA[edge_point(k1, 0)], PA[edge_point(k1, 1)], PA[edge_point(k1, 2)], b3};
+      edge_cubic(macro_[t], k1, b1, b2);
+      const Vec3 c[5] = {b0, shared[edge_point(k1, 0)], shared[edge_point(k1, 1)], shared[edge_point(k1, 2)], b3};
       const Vec3 g0 = 3.0 * (b1 - b0), g1 = 3.0 * (b2 - b1), g2 = 3.0 * (b3 - b2);
       const Vec3& nP = frames.normal(SurfaceMesh::next(e));
       const Vec3& nQ = frames.normal(SurfaceMesh::prev(e));
       const Vec3 W0 = normalized(cross(nP, g0)), W1 = normalized(cross(nQ, g2));
       const double gg0 = norm2(g0), gg2 = norm2(g2);
       if (!(gg0 > 0) || !(gg2 > 0) || norm(W0) == 0 || norm(W1) == 0) continue;
+      auto& SA = stored_[t];
+      auto& SB = stored_[t2];
       // rows next to the edge, in the canonical direction
-      Vec3* rowA[4] = {&PA[inner_point((k1 + 1) % 3, 0)], &PA[d1_point(k1)], &PA[d2_point(k1)],
-                       &PA[inner_point((k1 + 2) % 3, 0)]};
-      Vec3* rowB[4] = {&PB[inner_point((k2 + 2) % 3, 0)], &PB[d2_point(k2)], &PB[d1_point(k2)],
-                       &PB[inner_point((k2 + 1) % 3, 0)]};
+      Vec3* rowA[4] = {&shared[inner_point((k1 + 1) % 3, 0)], &SA[stored_slot(d1_point(k1))],
+                       &SA[stored_slot(d2_point(k1))], &shared[inner_point((k1 + 2) % 3, 0)]};
+      Vec3* rowB[4] = {&shared2[inner_point((k2 + 2) % 3, 0)], &SB[stored_slot(d2_point(k2))],
+                       &SB[stored_slot(d1_point(k2))], &shared2[inner_point((k2 + 1) % 3, 0)]};
       auto correct = [&](Vec3* row[4], Vec3& delta1, Vec3& delta2) {
         // cross-boundary vectors X_i = row_i - (c_i + c_{i+1}) / 2
         const Vec3 X0 = *row[0] - 0.5 * (c[0] + c[1]);
@@ -283,39 +388,44 @@ BezierSurface::BezierSurface(const SurfaceMesh& mesh, const SurfaceFrames& frame
         *row[1] = r1;
         *row[2] = r2;
       };
-      correct(rowA, delta[t][2 * k1], delta[t][2 * k1 + 1]);
-      correct(rowB, delta[t2][2 * k2 + 1], delta[t2][2 * k2]);
+      // each macro edge is corrected once: its free inner point moves now
+      Vec3 dA1, dA2, dB1, dB2;  // corrections of points d1, d2 of each side
+      correct(rowA, dA1, dA2);
+      correct(rowB, dB2, dB1);
+      SA[stored_slot(e_point(k1))] += w * (dA1 + dA2);
+      SB[stored_slot(e_point(k2))] += w * (dB1 + dB2);
       touched[t] = touched[t2] = 1;
     }
   }
+  return touched;
+}
 
-  // 4. inner points of the split from the Clough-Tocher C1 conditions across
-  // the inner edges v_j -> centre (diamonds: the edge point nearer the centre
-  // is the mean of its neighbour nearer v_j and the two points beside it).
-  const double w = options.inner_correction_weight;
-  for (int t = 0; t < nt; ++t) {
-    if (!touched[t]) continue;
-    Patch& P = patches_[t];
-    for (int k = 0; k < 3; ++k) P[e_point(k)] += w * (delta[t][2 * k] + delta[t][2 * k + 1]);
-    for (int j = 0; j < 3; ++j)
-      P[inner_point(j, 1)] = (P[d1_point((j + 2) % 3)] + P[d2_point((j + 1) % 3)] + P[inner_point(j, 0)]) / 3.0;
-    for (int j = 0; j < 3; ++j)
-      P[inner_point(j, 2)] = (P[e_point((j + 2) % 3)] + P[e_point((j + 1) % 3)] + P[inner_point(j, 1)]) / 3.0;
-    P[3] = (P[inner_point(0, 2)] + P[inner_point(1, 2)] + P[inner_point(2, 2)]) / 3.0;
+BezierSurface::Patch BezierSurface::patch(Triangle t) const {
+  Patch P{};
+  const Macro& m = macro_[t.idx];
+  if (m.vertex[0] < 0) return P;
+  fill_shared(m, P);
+  const auto& S = stored_[t.idx];
+  for (int i = 0; i < kStoredPoints; ++i) P[kStoredIdx[i]] = S[i];
+  if (m.derived < 0) {
+    apply_c1_conditions(P);
+  } else {
+    for (int i = 0; i < kDerivedPoints; ++i) P[kDerivedIdx[i]] = derived_[m.derived][i];
   }
+  return P;
 }
 
 Vec3 BezierSurface::position(Triangle t, const Bary& b) const {
   const Local s = locate_sub(b);
   Vec3 lin[3];
-  reduce_to_linear(patches_[t.idx], s, lin);
+  reduce_to_linear(patch(t), s, lin);
   return s.mu[0] * lin[0] + s.mu[1] * lin[1] + s.mu[2] * lin[2];
 }
 
 SurfacePoint BezierSurface::evaluate(Triangle t, const Bary& b) const {
   const Local s = locate_sub(b);
   Vec3 lin[3];
-  reduce_to_linear(patches_[t.idx], s, lin);
+  reduce_to_linear(patch(t), s, lin);
   SurfacePoint r;
   r.position = s.mu[0] * lin[0] + s.mu[1] * lin[1] + s.mu[2] * lin[2];
   // macro directions (-1, 1, 0) and (-1, 0, 1) in the subtriangle's coordinates

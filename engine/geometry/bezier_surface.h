@@ -77,17 +77,49 @@ class BezierSurface {
   Vec3 position(Triangle t, const Bary& b) const;
   SurfacePoint evaluate(Triangle t, const Bary& b) const;
 
-  // The 31 control points of triangle t. Layout: 0-2 the vertices, 3 the
-  // centre, 4 + 3k + m the quartic points of the edge opposite vertex k (from
-  // vertex k+1), 13 + 3j + m the points of the inner edge from vertex j to the
-  // centre, 22 + 2k + {0,1} and 28 + k the inner points of subtriangle k
-  // (vertices k+1, k+2, centre).
-  const Patch& patch(Triangle t) const { return patches_[t.idx]; }
+  // The 31 control points of triangle t (section 3, steps 3-4; zero for a
+  // deleted triangle). Layout: 0-2 the vertices, 3 the centre, 4 + 3k + m the
+  // quartic points of the edge opposite vertex k (from vertex k+1), 13 + 3j + m
+  // the points of the inner edge from vertex j to the centre, 22 + 2k + {0,1}
+  // and 28 + k the inner points of subtriangle k (vertices k+1, k+2, centre).
+  // Assembled from the stored data (see below), bitwise as built.
+  Patch patch(Triangle t) const;
   // Number of triangle slots covered (the mesh's triangle capacity).
-  int size() const { return static_cast<int>(patches_.size()); }
+  int size() const { return static_cast<int>(macro_.size()); }
+
+  // Storage: what the 31 points are made of, each stored once.
+  //  - the vertices, per vertex slot;
+  //  - the two cubic control points of every edge (step 1), shared by both
+  //    sides: the macro edge's quartic points follow by degree elevation;
+  //  - the first point of each inner edge (13 + 3j) follows from the cubic
+  //    (the G1 corrections leave it);
+  //  - per triangle the 9 points the G1 corrections set (step 4: the two
+  //    points next to each macro edge and the free inner points, 22-30);
+  //  - the centre and the other 6 inner-edge points (3, 13 + 3j + {1, 2})
+  //    follow from the Clough-Tocher C1 conditions on a corrected triangle,
+  //    and are stored (`derived_`) only on the others.
+  static constexpr int kStoredPoints = 9;
+  static constexpr int kDerivedPoints = 7;
 
  private:
-  std::vector<Patch> patches_;
+  struct Macro {
+    int vertex[3] = {-1, -1, -1};  // -1: deleted triangle
+    int edge[3] = {0, 0, 0};       // edge of the side opposite vertex k; ~id when seen against its direction
+    int derived = -1;              // index into derived_, -1: the C1 conditions give them
+  };
+  void index_mesh(const SurfaceMesh& mesh);
+  void build_edges(const SurfaceMesh& mesh, const SurfaceFrames& frames, const BezierOptions& options);
+  void edge_cubic(const Macro& m, int k, Vec3& p1, Vec3& p2) const;
+  void fill_shared(const Macro& m, Patch& P) const;
+  void cubic_net(const Macro& m, const Patch& P, Vec3 b[10]) const;
+  Patch elevated_patch(int t) const;
+  std::vector<char> correct_g1(const SurfaceMesh& mesh, const SurfaceFrames& frames, const BezierOptions& options);
+
+  std::vector<Vec3> vertex_;
+  std::vector<std::array<Vec3, 2>> edge_;  // next to the edge's from / to vertex (its canonical corner)
+  std::vector<Macro> macro_;
+  std::vector<std::array<Vec3, kStoredPoints>> stored_;
+  std::vector<std::array<Vec3, kDerivedPoints>> derived_;
 };
 
 }  // namespace anisurf

@@ -228,6 +228,76 @@ Vec3 safe_curve_tangent(const SurfaceMesh& mesh, Vertex v, const FeatureEdgeAt& 
   return normalized(std::cos(best) * ub + std::sin(best) * wb);
 }
 
+// The sparse matrix of the mirror system (compute_frames, step 3), its
+// structure built once: the unknowns of the sectors at both ends of every
+// edge of positive length are coupled (the entries the step's triplets would
+// name, explicit zeros included), one column per unknown with sorted rows.
+// Values are summed in place in the order of the triplets (each slot starts
+// at -0, the neutral element), so the matrix is the one setFromTriplets
+// built, without its triplet list and transposed copy (3 x the matrix).
+class MirrorMatrix {
+ public:
+  MirrorMatrix(const SurfaceMesh& mesh, const std::vector<int>& corner_sector, const std::vector<int>& first_unknown,
+               const std::vector<int>& n_unknowns, int nu)
+      : A_(nu, nu) {
+    const std::vector<std::vector<int>> nbrs = sector_neighbours(mesh, corner_sector, first_unknown);
+    std::vector<int> outer(nu + 1, 0);
+    for (int s = 0; s < static_cast<int>(nbrs.size()); ++s) {
+      int rows = 0;
+      for (int t : nbrs[s]) rows += n_unknowns[t];
+      for (int k = 0; k < n_unknowns[s]; ++k) outer[first_unknown[s] + k + 1] = rows;
+    }
+    for (int u = 0; u < nu; ++u) outer[u + 1] += outer[u];
+    A_.resizeNonZeros(outer[nu]);
+    std::copy(outer.begin(), outer.end(), A_.outerIndexPtr());
+    for (int s = 0; s < static_cast<int>(nbrs.size()); ++s)
+      for (int k = 0; k < n_unknowns[s]; ++k) {
+        int* row = A_.innerIndexPtr() + outer[first_unknown[s] + k];
+        for (int t : nbrs[s])
+          for (int m = 0; m < n_unknowns[t]; ++m) *row++ = first_unknown[t] + m;
+      }
+  }
+  // Every value back to -0 (before a new assembly).
+  void clear() { std::fill_n(A_.valuePtr(), A_.nonZeros(), -0.0); }
+  // A(r, c) += v; pre: (r, c) in the structure.
+  void add(int r, int c, double v) {
+    const int* first = A_.innerIndexPtr() + A_.outerIndexPtr()[c];
+    const int* last = A_.innerIndexPtr() + A_.outerIndexPtr()[c + 1];
+    A_.valuePtr()[std::lower_bound(first, last, r) - A_.innerIndexPtr()] += v;
+  }
+  const Eigen::SparseMatrix<double>& matrix() const { return A_; }
+
+ private:
+  // Per sector with unknowns, the sorted sectors with unknowns it is coupled
+  // to (itself included when one of its edges has positive length).
+  static std::vector<std::vector<int>> sector_neighbours(const SurfaceMesh& mesh, const std::vector<int>& corner_sector,
+                                                         const std::vector<int>& first_unknown) {
+    std::vector<std::vector<int>> nbrs(first_unknown.size());
+    for (int t = 0; t < mesh.triangle_capacity(); ++t) {
+      if (mesh.is_deleted(Triangle(t))) continue;
+      for (int q = 0; q < 3; ++q) {
+        const Corner cv = SurfaceMesh::corner(Triangle(t), q), cw = SurfaceMesh::next(cv);
+        const Vec3 e = mesh.position(mesh.vertex(cw)) - mesh.position(mesh.vertex(cv));
+        if (!(norm2(e) > 0)) continue;
+        const int sv = corner_sector[cv.idx], sw = corner_sector[cw.idx];
+        for (int a : {sv, sw}) {
+          if (first_unknown[a] < 0) continue;
+          for (int b : {sv, sw})
+            if (first_unknown[b] >= 0) nbrs[a].push_back(b);
+        }
+      }
+    }
+    for (auto& n : nbrs) {
+      std::sort(n.begin(), n.end());
+      n.erase(std::unique(n.begin(), n.end()), n.end());
+      n.shrink_to_fit();
+    }
+    return nbrs;
+  }
+
+  Eigen::SparseMatrix<double> A_;
+};
+
 }  // namespace
 
 Vec3 circle_tangent(const Vec3& a, const Vec3& v, const Vec3& b) {
@@ -242,9 +312,13 @@ Vec3 circle_tangent(const Vec3& a, const Vec3& v, const Vec3& b) {
 SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& options) {
   SurfaceFrames f;
   const int nc = 3 * mesh.triangle_capacity();
-  f.corner_normal_.assign(nc, Vec3());
   f.corner_sector_.assign(nc, -1);
-  f.tangent_.assign(2 * static_cast<std::size_t>(nc), Vec3());
+  f.tangent_slot_.assign(nc, -1);
+  for (int c = 0; c < nc; ++c)
+    if (!mesh.is_deleted(SurfaceMesh::triangle(Corner(c))) && is_feature_edge(mesh, Corner(c))) {
+      f.tangent_slot_[c] = static_cast<int>(f.tangent_.size());
+      f.tangent_.push_back({Vec3(), Vec3()});
+    }
 
   // 1. feature-curve tangents. Regular curve vertices (exactly two feature
   // edges, not corners) get the circle tangent through their two curve
@@ -277,12 +351,12 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
     const Corner o = mesh.opposite(e);
     if (o.is_valid() && o < e) {
       // the same curve seen from the other side: reuse it (exactly equal)
-      f.tangent_[2 * c] = f.tangent_[2 * o.idx + 1];
-      f.tangent_[2 * c + 1] = f.tangent_[2 * o.idx];
+      f.tangent(c, 0) = f.tangent(o.idx, 1);
+      f.tangent(c, 1) = f.tangent(o.idx, 0);
       continue;
     }
-    f.tangent_[2 * c] = end_tangent(a, b);
-    f.tangent_[2 * c + 1] = end_tangent(b, a);
+    f.tangent(c, 0) = end_tangent(a, b);
+    f.tangent(c, 1) = end_tangent(b, a);
   }
 
   // 2. sector normals
@@ -350,7 +424,6 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
       f.sector_normal_.push_back(n);
       f.sector_vertex_.push_back(vh);
       for (Corner c : sector) {
-        f.corner_normal_[c.idx] = n;
         f.corner_sector_[c.idx] = s;
       }
     }
@@ -375,6 +448,7 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
       n_unknowns[s] = norm(axis[i]) > 0 ? 1 : 2;
       nu += n_unknowns[s];
     }
+    MirrorMatrix A(mesh, f.corner_sector_, first_unknown, n_unknowns, nu);
     for (int it = 0; it < options.mirror_iterations; ++it) {
       for (std::size_t i = 0; i < movable.size(); ++i) {
         const int s = movable[i];
@@ -385,7 +459,7 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
           frame_of(f.sector_normal_[s], b1[s], b2[s]);
         }
       }
-      std::vector<Eigen::Triplet<double>> trip;
+      A.clear();
       Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nu);
       std::vector<double> scale(ns, 0.0);
       for (int t = 0; t < mesh.triangle_capacity(); ++t) {
@@ -414,7 +488,7 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
           }
           for (int a = 0; a < m; ++a) {
             rhs(idx[a]) -= wt * J[a] * r;
-            for (int b = 0; b < m; ++b) trip.emplace_back(idx[a], idx[b], wt * J[a] * J[b]);
+            for (int b = 0; b < m; ++b) A.add(idx[a], idx[b], wt * J[a] * J[b]);
           }
         }
       }
@@ -423,19 +497,17 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
         const double mu = options.mirror_anchor * scale[s];
         if (!(mu > 0)) continue;
         const Vec3 d = estimate[i] - f.sector_normal_[s];
-        trip.emplace_back(first_unknown[s], first_unknown[s], mu);
+        A.add(first_unknown[s], first_unknown[s], mu);
         rhs(first_unknown[s]) += mu * dot(d, b1[s]);
         if (n_unknowns[s] == 2) {
-          trip.emplace_back(first_unknown[s] + 1, first_unknown[s] + 1, mu);
+          A.add(first_unknown[s] + 1, first_unknown[s] + 1, mu);
           rhs(first_unknown[s] + 1) += mu * dot(d, b2[s]);
         }
       }
-      Eigen::SparseMatrix<double> A(nu, nu);
-      A.setFromTriplets(trip.begin(), trip.end());
       Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
       cg.setTolerance(1e-10);
       cg.setMaxIterations(2000);
-      cg.compute(A);
+      cg.compute(A.matrix());
       if (cg.info() != Eigen::Success) break;
       const Eigen::VectorXd x = cg.solve(rhs);
       if (!x.allFinite()) break;
@@ -447,8 +519,6 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
         f.sector_normal_[s] = normalized(f.sector_normal_[s] + x1 * b1[s] + x2 * b2[s]);
       }
     }
-    for (int c = 0; c < nc; ++c)
-      if (f.corner_sector_[c] >= 0) f.corner_normal_[c] = f.sector_normal_[f.corner_sector_[c]];
   }
   // 3b. a sector normal must see every triangle of its sector (else the patch
   // folds there): on noisy fans, tilt it towards the triangles it sees worst.
@@ -581,7 +651,7 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
     }
     for (const End& en : ends) {
       const Vec3& n1 = f.sector_normal_[en.s1];
-      Vec3& t = f.tangent_[2 * en.e.idx + (en.from ? 0 : 1)];
+      Vec3& t = f.tangent(en.e.idx, en.from ? 0 : 1);
       const Vec3 chord = mesh.position(en.from ? mesh.edge_to(en.e) : mesh.edge_from(en.e)) - mesh.position(vh);
       Vec3 nt;
       if (en.s2 >= 0 && root(local(en.s1)) != root(local(en.s2))) {
@@ -594,12 +664,10 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
       if (dot(nt, t) < 0 || (dot(t, t) == 0 && dot(nt, chord) < 0)) nt = -nt;
       t = nt;
       const Corner o = mesh.opposite(en.e);
-      if (o.is_valid()) f.tangent_[2 * o.idx + (en.from ? 1 : 0)] = nt;
+      if (o.is_valid()) f.tangent(o.idx, en.from ? 1 : 0) = nt;
       ++f.constrained;
     }
   }
-  for (int c = 0; c < nc; ++c)
-    if (f.corner_sector_[c] >= 0) f.corner_normal_[c] = f.sector_normal_[f.corner_sector_[c]];
   return f;
 }
 

@@ -5,6 +5,7 @@
 // tangent planes at the vertices are supposed to be known"): they decide most
 // of the reconstruction error on coarse meshes.
 #pragma once
+#include <array>
 #include <vector>
 
 #include "mesh/surface_mesh.h"
@@ -66,7 +67,10 @@ struct NormalOptions {
 class SurfaceFrames {
  public:
   // Unit normal of the tangent plane at vertex(c) on the side of c's triangle.
-  const Vec3& normal(Corner c) const { return corner_normal_[c.idx]; }
+  const Vec3& normal(Corner c) const {
+    const int s = corner_sector_[c.idx];
+    return s >= 0 ? sector_normal_[s] : kZero;
+  }
   // Sector of c (corners of the same vertex between the same feature edges
   // share it); -1 for a deleted triangle.
   int sector(Corner c) const { return corner_sector_[c.idx]; }
@@ -76,8 +80,14 @@ class SurfaceFrames {
   // For a feature edge (the edge opposite e): unit tangent of its curve at
   // edge_from(e) pointing along the edge, and at edge_to(e) pointing back
   // along it. Zero for an edge that is not a feature.
-  const Vec3& tangent_from(Corner e) const { return tangent_[2 * e.idx]; }
-  const Vec3& tangent_to(Corner e) const { return tangent_[2 * e.idx + 1]; }
+  const Vec3& tangent_from(Corner e) const {
+    const int i = tangent_slot_[e.idx];
+    return i >= 0 ? tangent_[i][0] : kZero;
+  }
+  const Vec3& tangent_to(Corner e) const {
+    const int i = tangent_slot_[e.idx];
+    return i >= 0 ? tangent_[i][1] : kZero;
+  }
   // How each sector normal was obtained (counts over sectors).
   int fitted = 0, angle_weighted = 0, from_file = 0, constrained = 0;
   int tilted = 0;    // sectors tilted to see all their triangles
@@ -85,11 +95,18 @@ class SurfaceFrames {
 
  private:
   friend SurfaceFrames compute_frames(const SurfaceMesh&, const NormalOptions&);
-  std::vector<Vec3> corner_normal_;
+  // Tangent `end` (0: from, 1: to) of the feature edge opposite corner c.
+  Vec3& tangent(int c, int end) { return tangent_[tangent_slot_[c]][end]; }
+
+  static inline const Vec3 kZero{};
+  // Normals per sector only (a corner's is its sector's), tangents only on
+  // the feature edges: the frames are alive with the Bezier surface built
+  // from them, at the peak memory of `adapt`.
   std::vector<int> corner_sector_;
   std::vector<Vec3> sector_normal_;
   std::vector<Vertex> sector_vertex_;
-  std::vector<Vec3> tangent_;  // 2 per corner slot
+  std::vector<int> tangent_slot_;  // per corner slot: index into tangent_, -1 off the features
+  std::vector<std::array<Vec3, 2>> tangent_;
 };
 
 // Computes the frames of `mesh` from its feature tags (run detect_features

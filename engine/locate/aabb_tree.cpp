@@ -149,6 +149,7 @@ void AabbTree::build(const std::vector<BBox>& boxes) {
     tasks.push_back({left + 1, mid, task.end, task.depth + 1});
     tasks.push_back({left, task.begin, mid, task.depth + 1});
   }
+  nodes_.shrink_to_fit();  // reserved for the worst case (2 per primitive)
 }
 
 }  // namespace anisurf

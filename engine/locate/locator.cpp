@@ -14,12 +14,13 @@ struct Locator::Data {
   LocateOptions options;
   double scale = 0;  // bounding box diagonal
 
-  // Triangles, by slot (deleted slots: tv[3t] == -1).
+  // Triangles, by slot (deleted slots: tv(t)[0] < 0), read from the mesh's
+  // corner table.
   int n_slots = 0;
-  std::vector<int> tv;            // 3 vertex ids per slot
-  // Per slot: positions and a bounding ball (centroid, radius), together for locality.
+  const int* tv(int t) const { return mesh->triangle_vertices(Triangle(t)); }
+  // Per slot: a bounding ball (centroid, radius); the positions are the
+  // mesh's (through tv), not copied.
   struct Tri {
-    Vec3 p[3];
     Vec3 c;
     double r = 0;
   };
@@ -41,10 +42,8 @@ struct Locator::Data {
   std::vector<int> corners;  // vertex ids
   AabbTree corner_tree;
 
-  double tri_d2(const Vec3& x, int t) const {
-    const Vec3* p = tri[static_cast<std::size_t>(t)].p;
-    return point_triangle_distance2(x, p[0], p[1], p[2]);
-  }
+  const Vec3& pos(int t, int k) const { return mesh->position(Vertex(tv(t)[k])); }
+  double tri_d2(const Vec3& x, int t) const { return point_triangle_distance2(x, pos(t, 0), pos(t, 1), pos(t, 2)); }
   double seg_d2(const Vec3& x, int e) const {
     return point_segment_distance2(x, fe_p[2 * static_cast<std::size_t>(e)], fe_p[2 * static_cast<std::size_t>(e) + 1]);
   }
@@ -57,7 +56,7 @@ struct Locator::Data {
       if (norm(x - p[k]) + d <= rho[v[k]]) return true;
     return false;
   }
-  bool live_triangle(int t) const { return t >= 0 && t < n_slots && tv[3 * static_cast<std::size_t>(t)] >= 0; }
+  bool live_triangle(int t) const { return t >= 0 && t < n_slots && tv(t)[0] >= 0; }
 
   void build(const SurfaceMesh& m, const LocateOptions& o);
   void build_triangles();
@@ -102,23 +101,22 @@ void Locator::Data::build(const SurfaceMesh& m, const LocateOptions& o) {
 void Locator::Data::build_triangles() {
   const SurfaceMesh& m = *mesh;
   n_slots = m.triangle_capacity();
-  tv.assign(3 * static_cast<std::size_t>(n_slots), -1);
   tri.assign(static_cast<std::size_t>(n_slots), Tri());
   std::vector<BBox> boxes(static_cast<std::size_t>(n_slots));
   std::vector<std::array<int, 2>> pairs;
   pairs.reserve(3 * static_cast<std::size_t>(n_slots));
   for (int t = 0; t < n_slots; ++t) {
     if (m.is_deleted(Triangle(t))) continue;
+    Vec3 p[3];
     for (int k = 0; k < 3; ++k) {
       const Vertex v = m.vertex(Triangle(t), k);
-      tv[3 * t + k] = v.idx;
-      tri[t].p[k] = m.position(v);
+      p[k] = m.position(v);
       pairs.push_back({v.idx, t});
     }
-    boxes[t] = box_of(tri[t].p, 3);
+    boxes[t] = box_of(p, 3);
     Tri& T = tri[t];
-    T.c = (T.p[0] + T.p[1] + T.p[2]) / 3.0;
-    T.r = std::max({norm(T.p[0] - T.c), norm(T.p[1] - T.c), norm(T.p[2] - T.c)}) * (1 + 1e-12);
+    T.c = (p[0] + p[1] + p[2]) / 3.0;
+    T.r = std::max({norm(p[0] - T.c), norm(p[1] - T.c), norm(p[2] - T.c)}) * (1 + 1e-12);
   }
   build_csr(m.vertex_capacity(), pairs, vt_first, vt);
   tree.build(boxes);
@@ -131,7 +129,7 @@ void Locator::Data::build_triangles() {
     double best = INFINITY;
     tree.nearest([&](const Vec3& lo, const Vec3& hi) { return box_point_distance2(lo, hi, x); },
                  [&](int t, double) -> double {
-                   const int* a = &tv[3 * t];
+                   const int* a = tv(t);
                    if (a[0] == v || a[1] == v || a[2] == v) return INFINITY;
                    return tri_d2(x, t);
                  },
@@ -145,7 +143,7 @@ void Locator::Data::build_features() {
   corner_fe.assign(3 * static_cast<std::size_t>(n_slots), -1);
   std::vector<std::array<int, 2>> pairs;
   for (int t = 0; t < n_slots; ++t) {
-    if (tv[3 * t] < 0) continue;
+    if (tv(t)[0] < 0) continue;
     for (int k = 0; k < 3; ++k) {
       const Corner c = SurfaceMesh::corner(Triangle(t), k);
       if (!(m.edge_tags(c) & options.feature_tags)) continue;
@@ -164,6 +162,8 @@ void Locator::Data::build_features() {
       pairs.push_back({b.idx, e});
     }
   }
+  // no feature curve: no feature query reads the corners' edges (project)
+  if (fe_corner.empty()) std::vector<int>().swap(corner_fe);
   build_csr(m.vertex_capacity(), pairs, vf_first, vf);
   const int ne = static_cast<int>(fe_corner.size());
   std::vector<BBox> boxes(static_cast<std::size_t>(ne));
@@ -254,8 +254,7 @@ Location Locator::project(const Vec3& x, std::span<const Hint> hints, Constraint
 Location Locator::free_result(const Vec3& x, int t, int steps, bool fallback) const {
   Location r;
   if (t < 0) return r;
-  const Vec3* p = d_->tri[static_cast<std::size_t>(t)].p;
-  const TriangleClosest c = closest_point_on_triangle(x, p[0], p[1], p[2]);
+  const TriangleClosest c = closest_point_on_triangle(x, d_->pos(t, 0), d_->pos(t, 1), d_->pos(t, 2));
   r.triangle = Triangle(t);
   r.bary = c.bary;
   r.point = c.point;
@@ -295,7 +294,7 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
   for (;;) {
     int best = -1;
     double bd = INFINITY;
-    const int* v = &D.tv[3 * static_cast<std::size_t>(K)];
+    const int* v = D.tv(K);
     const double rK = std::sqrt(dK);
     for (int k = 0; k < 3; ++k) {
       for (int i = D.vt_first[v[k]]; i < D.vt_first[v[k] + 1]; ++i) {
@@ -319,8 +318,8 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
     dK = bd;
     if (++steps >= D.options.max_steps) return global(K, dK, steps);
   }
-  if (Data::certified(x, std::sqrt(dK), &D.tv[3 * static_cast<std::size_t>(K)], D.tri[static_cast<std::size_t>(K)].p, 3,
-                      D.vclear))
+  const Vec3 pK[3] = {D.pos(K, 0), D.pos(K, 1), D.pos(K, 2)};
+  if (Data::certified(x, std::sqrt(dK), D.tv(K), pK, 3, D.vclear))
     return free_result(x, K, steps, false);
   return global(K, dK, steps);
 }
@@ -366,7 +365,7 @@ Location Locator::project_feature(const Vec3& x, std::span<const Hint> hints) {
     for (int k = 0; k < 3; ++k) {
       const int e = D.corner_fe[3 * static_cast<std::size_t>(t) + k];
       if (e >= 0) consider(e);
-      const int v = D.tv[3 * static_cast<std::size_t>(t) + k];
+      const int v = D.tv(t)[k];
       for (int i = D.vf_first[v]; i < D.vf_first[v + 1]; ++i) consider(D.vf[i]);
     }
   }

@@ -107,6 +107,9 @@ class SurfaceMesh {
 
   Vertex vertex(Corner c) const { return Vertex(tv_[c.idx]); }
   Vertex vertex(Triangle t, int k) const { return Vertex(tv_[3 * t.idx + k]); }
+  // The 3 vertex ids of slot t (the first one negative when deleted): the
+  // corner table itself, for readers that index it in bulk (locate/).
+  const int* triangle_vertices(Triangle t) const { return tv_.data() + 3 * static_cast<std::size_t>(t.idx); }
   // Corner across the edge opposite c, or invalid on a boundary edge.
   Corner opposite(Corner c) const { return Corner(to_[c.idx]); }
   bool is_boundary_edge(Corner c) const { return to_[c.idx] < 0; }

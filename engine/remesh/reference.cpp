@@ -26,7 +26,7 @@ Projection PolyhedralSurface::project(const Vec3& x, std::span<const Hint> hints
 }
 
 BezierGeometry::BezierGeometry(const SurfaceMesh& mesh, Mode mode)
-    : locator_(mesh), surface_(mesh, compute_frames(mesh)), mode_(mode) {}
+    : surface_(mesh, compute_frames(mesh)), locator_(mesh), mode_(mode) {}
 
 Projection BezierGeometry::project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) {
   // Closest point of the G1 surface: Gauss-Newton on the parameters from the
@@ -60,9 +60,8 @@ Projection BezierGeometry::project(const Vec3& x, std::span<const Hint> hints, C
 
 ControlSpace::ControlSpace(const SurfaceMesh& mesh, MetricField metric, bool same_as_geometry,
                            MetricInterpolation interpolation, const std::string& metric_field_name)
-    : mesh_(mesh), metric_(std::move(metric)), interpolation_(interpolation) {
-  assert(static_cast<int>(metric_.size()) >= mesh.vertex_capacity());
-  target_ = metric_;
+    : mesh_(mesh), target_(std::move(metric)), interpolation_(interpolation) {
+  assert(static_cast<int>(target_.size()) >= mesh.vertex_capacity());
   if (!same_as_geometry) locator_ = std::make_unique<Locator>(mesh);
   for (const FieldInfo& f : mesh.fields()) {
     if (f.name == metric_field_name) continue;
@@ -73,9 +72,10 @@ ControlSpace::ControlSpace(const SurfaceMesh& mesh, MetricField metric, bool sam
 
 void ControlSpace::set_relaxation(double t) {
   if (t >= 1) {
-    metric_ = target_;
+    MetricField().swap(relaxed_);
     return;
   }
+  if (relaxed_.empty()) relaxed_ = target_;
   if (implied_.empty()) {
     implied_.assign(target_.size(), SymTensor3::identity());
     for (int i = 0; i < mesh_.vertex_capacity(); ++i) {
@@ -93,7 +93,7 @@ void ControlSpace::set_relaxation(double t) {
   for (int i = 0; i < mesh_.vertex_capacity(); ++i) {
     const Vertex v(i);
     if (mesh_.is_deleted(v) || mesh_.is_isolated(v)) continue;
-    metric_[i] = tensor_exp((1 - t) * tensor_log(implied_[i]) + t * tensor_log(target_[i]));
+    relaxed_[i] = tensor_exp((1 - t) * tensor_log(implied_[i]) + t * tensor_log(target_[i]));
   }
 }
 
@@ -104,8 +104,8 @@ Location ControlSpace::locate(const Vec3& x, Hint hint, const Location& on_geome
 
 SymTensor3 ControlSpace::metric_at(const Location& where) const {
   const Triangle t = where.triangle;
-  const std::array<SymTensor3, 3> M = {metric_[mesh_.vertex(t, 0).idx], metric_[mesh_.vertex(t, 1).idx],
-                                       metric_[mesh_.vertex(t, 2).idx]};
+  const MetricField& m = metric();
+  const std::array<SymTensor3, 3> M = {m[mesh_.vertex(t, 0).idx], m[mesh_.vertex(t, 1).idx], m[mesh_.vertex(t, 2).idx]};
   return interpolate_metric(M, where.bary, interpolation_);
 }
 

@@ -74,8 +74,10 @@ class BezierGeometry final : public GeometrySurface {
   std::string name() const override { return "g1-bezier"; }
 
  private:
-  Locator locator_;
+  // The surface first: the frames it is built from are freed before the
+  // locator is built (the two do not add up at the peak memory).
   BezierSurface surface_;
+  Locator locator_;
   Mode mode_;
 };
 
@@ -105,7 +107,7 @@ class ControlSpace {
 
   const SurfaceMesh& mesh() const { return mesh_; }
   // The metric in use (the target, or a relaxed one: set_relaxation).
-  const MetricField& metric() const { return metric_; }
+  const MetricField& metric() const { return relaxed_.empty() ? target_ : relaxed_; }
   const MetricField& target_metric() const { return target_; }
 
   // Remark 6: the metric in use becomes the log-Euclidean interpolation
@@ -118,8 +120,8 @@ class ControlSpace {
 
  private:
   const SurfaceMesh& mesh_;
-  MetricField metric_;
   MetricField target_;
+  MetricField relaxed_;  // the metric in use while relaxed (empty otherwise: the target, not copied)
   MetricField implied_;  // M_0 of set_relaxation, computed on first use
   MetricInterpolation interpolation_;
   std::unique_ptr<Locator> locator_;  // null when T_0 is T_G
