@@ -505,7 +505,7 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
         }
       }
       Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
-      cg.setTolerance(1e-10);
+      cg.setTolerance(1e-6);  // relative residual: the Gauss-Newton steps correct the rest (1e-10 took 2 s more on 500k triangles for the same surface)
       cg.setMaxIterations(2000);
       cg.compute(A.matrix());
       if (cg.info() != Eigen::Success) break;
