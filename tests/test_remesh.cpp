@@ -469,6 +469,37 @@ TEST_CASE("remesh: run() is advance() until finished; a stopped run resumes; sna
   CHECK(t->control->metric()[0] == t->control->target_metric()[0]);  // the last stage is the target
 }
 
+TEST_CASE("remesh: an interrupted pass stops early with a valid mesh and the schedule resumes at that pass") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
+  auto s = make_setup(mesh, sol, 0, true);
+  RemeshOptions o;
+  o.op.lmin = 0.72;
+  Remesher r(*s->adapted, o);
+  r.advance();  // the initial swaps
+  REQUIRE(r.next_pass() == PassKind::Split);
+  const Schedule before = r.schedule();
+  int polls = 0;
+  r.set_interrupt([&] { return ++polls >= 2; });  // the second poll: after about 512 splits
+  const PassReport cut = r.advance();
+  CHECK(cut.kind == PassKind::Split);
+  CHECK(cut.interrupted);
+  CHECK(cut.splits > 0);
+  CHECK(cut.splits < 900);  // hemi's whole first split pass makes about 900
+  check_state(*s->adapted, "interrupted split");
+  CHECK(r.schedule().round == before.round);  // the pass is still to do
+  CHECK(r.next_pass() == PassKind::Split);
+  r.set_interrupt({});
+  const PassReport rest = r.advance();
+  CHECK(!rest.interrupted);
+  CHECK(rest.kind == PassKind::Split);
+  CHECK(rest.splits > 0);
+  r.run();
+  CHECK(r.finished());
+  check_state(*s->adapted, "after the resumed run");
+  CHECK(r.measure().in_band_share > 0.95);
+}
+
 TEST_CASE("remesh: Remark 5 cache: the edges of the last 10 modifications are protected from being undone") {
   ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
   ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");

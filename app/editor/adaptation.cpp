@@ -102,6 +102,9 @@ void Adaptation::work(std::size_t from, int max_passes) {
       start = timeline_[from];
     }
     if (built_from_ != from || !remesher_) rebuild_from(*start);
+    // A pause ends the pass in progress early (its snapshot is marked
+    // interrupted; the schedule resumes with that pass).
+    remesher_->set_interrupt([this] { return stop_.load(); });
     for (int done = 0; (max_passes <= 0 || done < max_passes) && !stop_; ++done) {
       if (remesher_->finished()) break;
       remesh::PassReport r = remesher_->advance();
@@ -116,7 +119,7 @@ void Adaptation::work(std::size_t from, int max_passes) {
       snap->has_report = true;
       snap->schedule = remesher_->schedule();
       snap->label = (r.iteration > 0 ? std::to_string(r.iteration) + " " : std::string()) +
-                    std::string(remesh::pass_name(kind));
+                    std::string(remesh::pass_name(kind)) + (r.interrupted ? " (interrupted)" : "");
       snap->report = std::move(r);
       last_pass_seconds_ = snap->report.seconds;
       last_snapshot_seconds_ = std::chrono::duration<double>(Clock::now() - t0).count();

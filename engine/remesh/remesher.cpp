@@ -112,6 +112,13 @@ void Remesher::mark_all() {
   smooth_active_.assign(n, 1);
 }
 
+bool Remesher::interrupted(PassReport& r) {
+  if (r.interrupted) return true;
+  if (!interrupt_ || ++interrupt_polls_ % 256 != 0) return false;
+  r.interrupted = interrupt_();
+  return r.interrupted;
+}
+
 void Remesher::mark(Vertex v) {
   const std::size_t i = static_cast<std::size_t>(v.idx);
   if (i >= swap_active_.size()) {
@@ -188,7 +195,7 @@ void Remesher::split_pass(PassReport& r) {
   // swaps in between; then a swap sweep around what changed, which turns
   // the triangles whose three edges were split into 1:4 subdivisions; again
   // with the long edges left, until none is.
-  for (int generation = 0; generation < 64; ++generation) {
+  for (int generation = 0; generation < 64 && !r.interrupted; ++generation) {
     if (split_generation(r, false) == 0) break;
     if (options_.local_swaps) swap_pass(r);
 
@@ -208,7 +215,7 @@ int Remesher::split_generation(PassReport& r, bool follow_new_edges) {
   // the triangles many times over in one pass).
   long long pops = 0;
   int changes = 0;
-  while (!heap.empty() && pops++ < 20LL * mesh.n_triangles() + 1000) {
+  while (!heap.empty() && pops++ < 20LL * mesh.n_triangles() + 1000 && !interrupted(r)) {
     const EdgeItem it = heap.pop();
     const Vertex a(it.a), b(it.b);
     const Corner c = find_edge_corner(mesh, a, b);
@@ -256,7 +263,7 @@ void Remesher::collapse_pass(PassReport& r) {
     if (l < o.lmin) heap.push({l, a.idx, b.idx});
   });
   long long budget = 20LL * mesh.n_triangles() + 1000;
-  while (!heap.empty() && budget-- > 0) {
+  while (!heap.empty() && budget-- > 0 && !interrupted(r)) {
     const EdgeItem it = heap.pop();
     const Vertex a(it.a), b(it.b);
     const Corner c = find_edge_corner(mesh, a, b);
@@ -294,7 +301,7 @@ void Remesher::swap_pass(PassReport& r) {
     if (!mesh.is_boundary_edge(c) && (active[a.idx] || active[b.idx])) queue.push_back({a.idx, b.idx});
   });
   long long budget = static_cast<long long>(options_.max_swap_sweeps) * static_cast<long long>(queue.size()) + 16;
-  while (!queue.empty() && budget-- > 0) {
+  while (!queue.empty() && budget-- > 0 && !interrupted(r)) {
     const auto e = queue.front();
     queue.pop_front();
     const Corner c = find_edge_corner(mesh, Vertex(e[0]), Vertex(e[1]));
@@ -326,7 +333,7 @@ void Remesher::smooth_pass(PassReport& r) {
   std::vector<std::uint8_t> active(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
   smooth_active_.resize(active.size(), 0);
   active.swap(smooth_active_);
-  for (int i = 0; i < mesh.vertex_capacity(); ++i) {
+  for (int i = 0; i < mesh.vertex_capacity() && !interrupted(r); ++i) {
     const Vertex v(i);
     if (!active[i] || mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
     const MovePlan plan = can_move(mesh_, v, o);
@@ -362,7 +369,7 @@ void Remesher::final_pass(PassReport& r) {
   }
   // 2: the vertices are barycentred (section 5.5) 8-10 times.
   mark_all();
-  for (int p = 0; p < options_.final_smoothing_passes; ++p) {
+  for (int p = 0; p < options_.final_smoothing_passes && !r.interrupted; ++p) {
     const int before = r.moves;
     smooth_pass(r);
     if (r.moves == before) break;
@@ -493,6 +500,15 @@ PassReport Remesher::record_state(PassReport r) {
 }
 
 PassReport Remesher::advance() {
+  // An interrupted pass leaves the schedule where it was (the pass is done
+  // again, from the mesh it left, by the next advance()).
+  const Schedule before = schedule_;
+  PassReport r = advance_schedule();
+  if (r.interrupted) schedule_ = before;
+  return r;
+}
+
+PassReport Remesher::advance_schedule() {
   Schedule& s = schedule_;
   if (s.phase == Schedule::Phase::Done) throw std::logic_error("Remesher::advance: the schedule is done");
   if (s.phase == Schedule::Phase::Initial) {

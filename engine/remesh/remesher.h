@@ -84,6 +84,9 @@ struct PassReport {
   // False for the passes run() did not measure (RemeshOptions::
   // measure_every_pass off): of the state, only vertices and triangles are set.
   bool measured = true;
+  // The pass stopped early (Remesher::set_interrupt): the mesh is valid, the
+  // pass is not complete.
+  bool interrupted = false;
   // Vertex slots created, kept or moved by the pass (the elements it
   // touched), each once, in the order of their first change; empty when
   // RemeshOptions::record_touched is off.
@@ -133,6 +136,11 @@ class Remesher {
   // Resumes the schedule at `s` (the mesh being the one `s` was taken with):
   // the stage's relaxed metric is set again, every vertex is visited anew.
   void set_schedule(const Schedule& s);
+  // A check polled within the passes (every 256 operations or vertices):
+  // when it returns true the pass ends after the operation in progress,
+  // reported `interrupted`; advance() then leaves the schedule at that pass.
+  // For an interactive caller whose user pauses a long pass.
+  void set_interrupt(std::function<bool()> check) { interrupt_ = std::move(check); }
 
   // The state of the mesh now (histogram, quality) without changing it.
   PassReport measure() const;
@@ -153,6 +161,9 @@ class Remesher {
   PassReport step(PassKind kind, const PassReport* previous, bool measure);
   // Keeps the state of r (the mesh's now) for the next pass of the schedule.
   PassReport record_state(PassReport r);
+  PassReport advance_schedule();
+  // Polls the interrupt check (every 256 calls); sticky within a pass.
+  bool interrupted(PassReport& r);
   void split_pass(PassReport& r);
   // Splits the edges longer than lmax, longest first (with local swaps and
   // the long edges the splits make when follow_new_edges); returns the
@@ -184,6 +195,8 @@ class Remesher {
   Schedule schedule_;
   PassReport last_;  // the state after the last pass of the schedule (valid if has_last_)
   bool has_last_ = false;
+  std::function<bool()> interrupt_;
+  long long interrupt_polls_ = 0;
   std::vector<EdgeItem> heap_;  // split / collapse passes: the heap's storage
   std::vector<std::uint8_t> touched_mark_;  // per vertex slot: in the pass's touched list
 };
