@@ -42,12 +42,6 @@ void act(PanelState& p, const std::string& ok, F&& f) {
   }
 }
 
-std::string fmt(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
-
 // --- File -----------------------------------------------------------------------
 void file_panel(EditorSession& s, ViewState& v, PanelState& p) {
   if (!ImGui::CollapsingHeader("File")) return;

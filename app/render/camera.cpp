@@ -33,7 +33,10 @@ const char* view_name(NamedView v) {
 
 std::string view_names() {
   std::string s;
-  for (const auto& [v, n] : kViews) s += (s.empty() ? "" : "|") + std::string(n);
+  for (const auto& [v, n] : kViews) {
+    if (!s.empty()) s += '|';
+    s += n;
+  }
   return s;
 }
 

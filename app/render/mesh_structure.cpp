@@ -17,12 +17,6 @@ glm::vec3 to_glm(const Vec3& p) {
   return {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
 }
 
-std::string field_list(const SurfaceMesh& mesh) {
-  std::string s;
-  for (const auto& f : mesh.fields()) s += (s.empty() ? "" : ", ") + f.name + " (" + std::to_string(f.ncomp) + ")";
-  return s.empty() ? "none" : s;
-}
-
 // Angle of triangle corner c (radians).
 double corner_angle(const SurfaceMesh& m, Corner c) {
   const Vec3& p = m.position(m.vertex(c));

@@ -112,7 +112,7 @@ void upload_geometry(GpuSurface& gpu, const SurfaceStructure& s) {
     inst.buffer.upload(GL_ARRAY_BUFFER, packed.data(), packed.size() * sizeof(glm::vec3));
     for (GLuint a = 0; a < 3; ++a) inst.vao.attribute(a, inst.buffer, 3, 3 * sizeof(glm::vec3), a * sizeof(glm::vec3), 1);
   }
-  gpu.uploaded_quantity = "\x01";
+  gpu.uploaded_quantity.assign(1, '\x01');  // (GCC 12 flags the literal assignment: -Wrestrict false positive)
   gpu.version = s.version;
 }
 

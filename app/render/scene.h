@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "render/camera.h"
@@ -37,6 +38,9 @@ enum class ScalarLocation {
 // A scalar quantity coloured through a colormap. Values outside the range
 // are clamped to the ends of the colormap; NaN values are drawn grey.
 struct ScalarQuantity {
+  ScalarQuantity() = default;
+  ScalarQuantity(std::string n, ScalarLocation l) : name(std::move(n)), location(l) {}
+
   std::string name;         // shown in the UI and on the legend
   ScalarLocation location = ScalarLocation::Vertex;
   std::vector<float> values;
