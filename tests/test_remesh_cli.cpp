@@ -255,7 +255,8 @@ TEST_CASE("anisurf adapt progress on a terminal (script's pseudo-terminal): a li
   for (const auto& l : lines) {
     CAPTURE(l);
     CHECK(l.rfind("round ", 0) == std::string::npos);
-    CHECK(l.size() < 200);
+    if (l.rfind("adapt: ", 0) == 0) continue;  // the setup line holds the file paths
+    CHECK(l.size() < 200);  // no leftover of a live line
   }
   CHECK(count_lines(lines, "round ") >= 2);
 }
