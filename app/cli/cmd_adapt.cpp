@@ -187,7 +187,15 @@ int run_adapt(const std::vector<std::string>& args) {
 
   // T_G = T_0: the input mesh with its features and its metric.
   BuildReport report;
+  // -v 2: the time of each setup step.
+  auto t_phase = Clock::now();
+  const auto phase = [&](const char* what_phase) {
+    const auto now = Clock::now();
+    if (verbose >= 2) std::fprintf(stderr, "  setup: %-45s %.2f s\n", what_phase, std::chrono::duration<double>(now - t_phase).count());
+    t_phase = now;
+  };
   SurfaceMesh input = load_mesh(in, &report);
+  phase("read the mesh");
   MetricField sol_metric;
   std::string metric_name;
   if (!mo.sol.empty()) {
@@ -221,6 +229,7 @@ int run_adapt(const std::vector<std::string>& args) {
     gradate_metric(input, metric, g);
   }
   check_metric_field(input, metric, report.vertex_origin);
+  phase("metric (features, sources, gradation)");
   if (!metric_name.empty()) input.remove_field(metric_name);  // read into `metric`: T_0 need not keep it
 
   // T_G: the input itself, or another mesh of the same surface (--geometry).
@@ -237,10 +246,12 @@ int run_adapt(const std::vector<std::string>& args) {
   else
     geometry = std::make_unique<remesh::BezierGeometry>(
         tg, surface == "g1-closest" ? remesh::BezierGeometry::Mode::Closest : remesh::BezierGeometry::Mode::Parametric);
+  phase("surface (frames, Bezier patches, locator)");
   remesh::ControlSpace control(input, std::move(metric), !separate, interpolation,
                                metric_name.empty() ? "metric" : metric_name);
   const LengthFormula formula = length == "log" ? LengthFormula::LinearSize : LengthFormula::LinearMetric;
   remesh::AdaptedMesh adapted(input, *geometry, control, formula, separate);
+  phase("T_1 located on T_G and T_0");
   const double t_setup = std::chrono::duration<double>(Clock::now() - t_start).count();
   if (verbose >= 1)
     std::fprintf(stderr, "adapt: %s: %d vertices, %d triangles, %d feature edges, %d corners; metric %s; %s surface (%.2f s)\n",
