@@ -176,12 +176,7 @@ bool adapt_checked(const std::string& name, TestMetric kind = TestMetric::Isotro
     REQUIRE_MESSAGE(v.ok(), v.summary());
     const int inv = adapted.count_inverted();
     worst = std::max(worst, inv);
-    // thinker.mesh is a broken input whose sheets nearly touch: the
-    // measure's votes (the closest point of T_G from a point inside the
-    // triangle) land on the sheet 1e-3 away, facing the other way, for a
-    // few triangles whose corners all agree with the surface. Its counts
-    // are reported (MESSAGE below), not bounded.
-    if (name != "thinker.mesh") CHECK(inv <= inverted_in);
+    CHECK(inv <= inverted_in);
     return p;
   };
   one(PassKind::Swap, 0);

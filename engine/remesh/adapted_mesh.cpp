@@ -194,6 +194,12 @@ void AdaptedMesh::mark_rough_triangles() {
     for (int k = 0; k < 3 && !rough; ++k) {
       const Vertex v = g.vertex(t, k);
       if (g.vertex_tags(v) & (kRidge | kBoundary | kCorner | kRequired)) rough = true;
+      // Another sheet within a quarter of the edges around v (a thin part,
+      // nearly touching sheets of a defective input): a point of T_1 near v
+      // may be closest to that sheet.
+      double longest = 0;
+      for (Vertex w : one_ring(g, v)) longest = std::max(longest, norm(g.position(w) - g.position(v)));
+      if (geometry_.clearance(v) < 0.25 * longest) rough = true;
       for (Corner c : g.fan(v))
         if (!rough && dot(n, normalized(g.triangle_normal(SurfaceMesh::triangle(c)))) < kFoldCosine) rough = true;
     }

@@ -75,8 +75,9 @@ class AdaptedMesh {
   const Hint& hint_g(Vertex v) const { return hint_g_[v]; }
   // True if the triangle of T_G of hint h has a vertex on a feature curve,
   // or shares a vertex with a triangle turned more than 60 degrees from it
-  // (a fold of a defective input), or if h has no triangle: where the
-  // surface turns fast nearby.
+  // (a fold of a defective input), or has a vertex with another sheet of the
+  // surface within a quarter of its edges' length, or if h has no triangle:
+  // where the surface turns fast or comes back nearby.
   bool near_feature(const Hint& h) const;
   // False for a vertex left off the surface (a split at the straight
   // midpoint); the next move of the vertex projects it.

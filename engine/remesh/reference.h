@@ -41,6 +41,10 @@ class GeometrySurface {
   // The polyhedral mesh T_G (tags: features, corners).
   virtual const SurfaceMesh& mesh() const = 0;
   virtual std::string name() const = 0;
+  // Distance from vertex v of T_G to the nearest triangle not incident to
+  // it (Locator::clearance): small where another sheet of the surface comes
+  // close (a thin part, a defective input).
+  virtual double clearance(Vertex v) const = 0;
 };
 
 // T_G as it is: projection onto the triangles (locate/locator.h).
@@ -51,6 +55,7 @@ class PolyhedralSurface final : public GeometrySurface {
   Projection project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) override;
   const SurfaceMesh& mesh() const override { return locator_.mesh(); }
   std::string name() const override { return "polyhedral"; }
+  double clearance(Vertex v) const override { return locator_.clearance(v); }
 
  private:
   Locator locator_;
@@ -72,6 +77,7 @@ class BezierGeometry final : public GeometrySurface {
   Projection project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) override;
   const SurfaceMesh& mesh() const override { return locator_.mesh(); }
   std::string name() const override { return "g1-bezier"; }
+  double clearance(Vertex v) const override { return locator_.clearance(v); }
 
  private:
   // The surface first: the frames it is built from are freed before the
