@@ -500,6 +500,40 @@ TEST_CASE("remesh: an interrupted pass stops early with a valid mesh and the sch
   CHECK(r.measure().in_band_share > 0.95);
 }
 
+TEST_CASE("remesh: the final valence swaps bring interior valences toward 6 and the worst quality up (isotropic metric)") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/sphere20k.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/sphere20k_iso.sol");
+  auto deviation = [](AdaptedMesh& a) {
+    const SurfaceMesh& m = a.mesh();
+    long long d = 0;
+    for (int i = 0; i < m.vertex_capacity(); ++i) {
+      const Vertex v(i);
+      if (m.is_deleted(v) || m.is_isolated(v) || a.kind(v) != VertexKind::Free) continue;
+      d += (m.valence(v) - 6) * (m.valence(v) - 6);
+    }
+    return d;
+  };
+  long long dev[2];
+  double worst[2];
+  for (const bool on : {false, true}) {
+    auto s = make_setup(mesh, sol, 0, true);
+    RemeshOptions o;
+    o.op.lmin = 0.72;
+    o.valence_swaps = on;
+    Remesher r(*s->adapted, o);
+    r.run();
+    check_state(*s->adapted, on ? "with valence swaps" : "without");
+    dev[on] = deviation(*s->adapted);
+    const PassReport m = r.measure();
+    worst[on] = m.q_min;
+    CHECK(m.in_band_share > 0.98);
+    CHECK(m.q_min > 0.5);
+  }
+  MESSAGE("valence deviation " << dev[0] << " -> " << dev[1] << ", q min " << worst[0] << " -> " << worst[1]);
+  CHECK(dev[1] < dev[0]);
+  CHECK(worst[1] > worst[0]);
+}
+
 TEST_CASE("remesh: Remark 5 cache: the edges of the last 10 modifications are protected from being undone") {
   ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
   ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");

@@ -36,6 +36,11 @@ struct RemeshOptions {
   int relaxed_smoothing_passes = 4;  // Remark 4: the first passes accept a slightly worse quality
   double relaxed_quality_factor = 0.9;
   bool initial_swaps = true;         // section 6: an initial swap pass improves the result
+  // Final optimisation (ours, not the report's): swaps toward valence 6 in
+  // isotropic regions before the smoothing, each allowed to lower the worst
+  // quality of its two triangles to this share of the old.
+  bool valence_swaps = true;
+  double valence_swap_gain = 0.6;
   bool local_swaps = true;           // section 6, step 2: swaps around each split / collapse
   int max_swap_sweeps = 8;           // a swap pass stops after this many visits per edge
   // Remark 6: for metrics far from the initial mesh, run() first adapts to
@@ -175,6 +180,11 @@ class Remesher {
   void final_pass(PassReport& r);
   // Swaps around v (its link edges) while they improve; returns the count.
   int local_swaps(Vertex v, PassReport& r);
+  // Final pass: swaps of interior edges that bring the four vertices'
+  // valences closer to 6, where the metric is isotropic and alike at the
+  // four, accepted by can_swap with the worst quality allowed to drop to
+  // valence_swap_gain of the old one. Returns the count.
+  int valence_swaps(PassReport& r);
   void remember(PassKind kind, Vertex v);
   void fill_state(PassReport& r) const;
   // Records v as touched by the pass and marks it and its neighbours for the
