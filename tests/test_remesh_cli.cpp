@@ -260,3 +260,69 @@ TEST_CASE("anisurf adapt progress on a terminal (script's pseudo-terminal): a li
   }
   CHECK(count_lines(lines, "round ") >= 2);
 }
+
+namespace {
+
+// A scalar .sol of f at the vertices of the Medit mesh `mesh_path` (file order).
+void write_field_sol(const std::string& mesh_path, const std::string& sol_path, double (*f)(const Vec3&)) {
+  const MeshData d = read_mesh_data(mesh_path);
+  FieldData fd;
+  fd.info = FieldInfo{"f", FieldKind::Scalar, 1};
+  for (const Vec3& p : d.vertices) fd.values.push_back(f(p));
+  write_sol(sol_path, {fd}, static_cast<int>(d.vertices.size()), 3);
+}
+
+// Largest |value - f(vertex)| over the output mesh and its OUT.fields.sol.
+double worst_field_error(const std::string& mesh_path, const std::string& fields_path, double (*f)(const Vec3&)) {
+  const MeshData d = read_mesh_data(mesh_path);
+  const std::vector<FieldData> fields = read_sol(fields_path, static_cast<int>(d.vertices.size()));
+  REQUIRE(fields.size() == 1);
+  REQUIRE(fields[0].values.size() == d.vertices.size());
+  double worst = 0;
+  for (std::size_t i = 0; i < d.vertices.size(); ++i) worst = std::max(worst, std::abs(fields[0].values[i] - f(d.vertices[i])));
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("anisurf adapt --interpolate: a solution on the input carried onto the output (OUT.fields.sol)") {
+  ANISURF_REQUIRE_SHARED(square, "bench/inputs/square3d.mesh");
+  ANISURF_REQUIRE_SHARED(square_sol, "bench/inputs/square3d.sol");
+  ANISURF_REQUIRE_SHARED(hemi, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(hemi_sol, "bench/inputs/hemi_iso.sol");
+  const auto dir = test::temp_dir("adapt_interpolate");
+  auto linear = [](const Vec3& p) { return 3 * p.x - p.y + 2 * p.z + 0.5; };
+  // Flat square: the output lies in T_0's plane, a linear field is carried exactly.
+  {
+    const std::string f = (dir / "square_f.sol").string(), out = (dir / "square.mesh").string();
+    write_field_sol(square, f, linear);
+    int status = -1;
+    const std::string text = adapt("'" + square + "' -sol '" + square_sol + "' --interpolate '" + f + "' -o '" + out + "'", &status);
+    REQUIRE(status == 0);
+    CHECK(text.find("square.fields.sol") != std::string::npos);  // named in the summary
+    CHECK(worst_field_error(out, (dir / "square.fields.sol").string(), linear) < 1e-12);
+    // The metric file holds the metric alone (Mmg reads it).
+    CHECK(read_sol((dir / "square.sol").string(), static_cast<int>(read_mesh_data(out).vertices.size())).size() == 1);
+  }
+  // Coarse hemisphere: new vertices lie on the G1 surface (the unit sphere to
+  // 2e-4), up to 0.045 off T_0's 66-vertex triangles, where the field is
+  // read (at the closest point): off by at most |grad f| = sqrt 14 times that.
+  {
+    const std::string f = (dir / "hemi_f.sol").string(), out = (dir / "hemi.mesh").string();
+    write_field_sol(hemi, f, linear);
+    int status = -1;
+    adapt("'" + hemi + "' -sol '" + hemi_sol + "' --interpolate '" + f + "' -o '" + out + "'", &status);
+    REQUIRE(status == 0);
+    const double err = worst_field_error(out, (dir / "hemi.fields.sol").string(), linear);
+    MESSAGE("hemi: worst |f - f(x)| " << err);
+    CHECK(err < std::sqrt(14.0) * 0.05);
+  }
+  // A field file for another mesh is refused, nothing written.
+  {
+    const std::string f = (dir / "square_f.sol").string(), out = (dir / "bad.mesh").string();
+    int status = -1;
+    adapt("'" + hemi + "' -sol '" + hemi_sol + "' --interpolate '" + f + "' -o '" + out + "'", &status);
+    CHECK(status == 1);
+    CHECK(!std::filesystem::exists(out));
+  }
+}

@@ -65,6 +65,8 @@ const char* kAdaptHelp =
     "  --relax N            Remark 6: adapt first to N relaxed metrics between the\n"
     "                       input mesh's sizes and the target (default 0: off)\n"
     "  --report FILE        per-pass report (JSON)\n"
+    "  --interpolate F.sol  a solution on IN's vertices (any fields), interpolated onto\n"
+    "                       the output from T_0 (section 6); written to OUT.fields.sol\n"
     "  -v N                 verbosity on stderr: 0 quiet, 1 per round (default), 2 per\n"
     "                       pass; at 1 on a terminal, a live line (round, pass, counts,\n"
     "                       vertices against the metric's prediction, op/s) after each pass\n"
@@ -88,6 +90,16 @@ std::string sol_path_for(const std::string& mesh_path) {
   p.replace_extension(".sol");
   return p.string();
 }
+
+// OUT.mesh -> OUT.fields.sol: the fields of --interpolate on the output.
+std::string fields_path_for(const std::string& mesh_path) {
+  std::filesystem::path p(mesh_path);
+  p.replace_extension(".fields.sol");
+  return p.string();
+}
+
+// Field names of --interpolate's fields on T_0 (apart from -sol's).
+constexpr const char* kInterpolatedPrefix = "interpolate:";
 
 nlohmann::json pass_json(const remesh::PassReport& r) {
   nlohmann::json j;
@@ -147,6 +159,7 @@ int run_adapt(const std::vector<std::string>& args) {
   const std::string surface = p.option("--surface");
   const std::string geometry_path = p.option("--geometry");
   const std::string report_path = p.option("--report");
+  const std::string interpolate_path = p.option("--interpolate");
   ro.record_touched = !report_path.empty();  // only the JSON report counts them
   std::string verb = p.option("-v", "--verbose");
   const int verbose = verb.empty() ? 1 : std::atoi(verb.c_str());
@@ -210,6 +223,13 @@ int run_adapt(const std::vector<std::string>& args) {
     } catch (const MetricError& e) {
       throw MetricError(mo.sol + ": " + e.what());
     }
+  }
+  // Section 6: a solution given on IN's vertices, interpolated onto the
+  // adapted mesh from its location in T_0 (written to OUT.fields.sol).
+  if (!interpolate_path.empty()) {
+    auto fields = read_sol(interpolate_path, report.input_vertices);
+    for (std::size_t k = 0; k < fields.size(); ++k) fields[k].info.name = kInterpolatedPrefix + std::to_string(k);
+    attach_fields(input, fields, report);
   }
   FeatureOptions fo;
   fo.detect_ridges = !no_ridges;
@@ -304,15 +324,18 @@ int run_adapt(const std::vector<std::string>& args) {
     mf.values.insert(mf.values.end(), T.m.begin(), T.m.end());
   }
   fields.push_back(std::move(mf));
+  std::vector<FieldData> interpolated;  // --interpolate's fields, to OUT.fields.sol
   for (const FieldInfo& info : control.field_infos()) {
     FieldData f;
     f.info = info;
     const Property<FieldValue> prop = t1.get_field(info.name);
     for (int v = 0; v < t1.vertex_capacity(); ++v)
       f.values.insert(f.values.end(), prop[Vertex(v)].begin(), prop[Vertex(v)].begin() + info.ncomp);
-    fields.push_back(std::move(f));
+    (info.name.rfind(kInterpolatedPrefix, 0) == 0 ? interpolated : fields).push_back(std::move(f));
   }
   write_sol(out_sol, fields, t1.vertex_capacity(), 3);
+  const std::string out_fields = interpolated.empty() ? std::string() : fields_path_for(out);
+  if (!interpolated.empty()) write_sol(out_fields, interpolated, t1.vertex_capacity(), 3);
   const double seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
 
   int splits = 0, collapses = 0, swaps = 0, moves = 0, removed = 0;
@@ -356,7 +379,8 @@ int run_adapt(const std::vector<std::string>& args) {
               collapses, swaps, moves, removed);
   std::printf("remeshing    %.2f s, %s operations per second\n", run_seconds,
               format_rate(splits + collapses + swaps + moves + removed, run_seconds).c_str());
-  std::printf("written      %s, %s (%.2f s)\n", out.c_str(), out_sol.c_str(), seconds);
+  std::printf("written      %s, %s%s%s (%.2f s)\n", out.c_str(), out_sol.c_str(), out_fields.empty() ? "" : ", ",
+              out_fields.c_str(), seconds);
   return 0;
 }
 
