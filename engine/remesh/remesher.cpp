@@ -186,6 +186,9 @@ int Remesher::local_swaps(Vertex v, PassReport& r) {
   return n;
 }
 
+// Share of the vertices under which a split generation is the last one.
+constexpr double kFewSplits = 0.01;
+
 void Remesher::split_pass(PassReport& r) {
   if (!options_.split_by_generation) {
     split_generation(r, true);
@@ -196,9 +199,15 @@ void Remesher::split_pass(PassReport& r) {
   // the triangles whose three edges were split into 1:4 subdivisions; again
   // with the long edges left, until none is.
   for (int generation = 0; generation < 64 && !r.interrupted; ++generation) {
-    if (split_generation(r, false) == 0) break;
+    const int changes = split_generation(r, false);
+    if (changes == 0) break;
     if (options_.local_swaps) swap_pass(r);
-
+    // A few long edges left (each generation scans the whole mesh): they
+    // are split the classic way, longest first, following the new edges.
+    if (changes < kFewSplits * mesh_.mesh().n_vertices()) {
+      split_generation(r, true);
+      break;
+    }
   }
 }
 
