@@ -59,8 +59,10 @@ struct RemeshOptions {
   // with the long edges left. On a coarse mesh this refines like 1:4
   // subdivisions; splitting longest-first with local swaps after each split
   // and the new long edges in the same heap also splits the long medians of
-  // half-split triangles and overshoots (isofine: 313k vertices after the
-  // first pass, 218k at the end, 96k collapses to get there).
+  // half-split triangles and overshoots (isofine with midpoint splits: 313k
+  // vertices after the first pass, 218k at the end, 96k collapses to get
+  // there). A generation that splits under 1% of the vertices is the last:
+  // the few long edges left are split the classic way.
   bool split_by_generation = true;
 };
 
@@ -127,7 +129,7 @@ class Remesher {
 
   // One named pass; returns what it did and the state after it.
   PassReport step(PassKind kind);
-  // Section 6's loop (the Schedule below) from where it stands to its end,
+  // Section 6's loop (the Schedule above) from where it stands to its end,
   // or until `stop` returns true after a pass (advance() resumes it).
   std::vector<PassReport> run(const std::function<void(const PassReport&)>& progress = {},
                               const std::function<bool()>& stop = {});
