@@ -186,24 +186,31 @@ void AdaptedMesh::mark_rough_triangles() {
   const SurfaceMesh& g = geometry_.mesh();
   rough_.assign(static_cast<std::size_t>(g.triangle_capacity()), 0);
   constexpr double kFoldCosine = 0.5;  // 60 degrees
-  for (int i = 0; i < g.triangle_capacity(); ++i) {
-    const Triangle t(i);
-    if (g.is_deleted(t)) continue;
-    const Vec3 n = normalized(g.triangle_normal(t));
-    bool rough = false;
-    for (int k = 0; k < 3 && !rough; ++k) {
-      const Vertex v = g.vertex(t, k);
-      if (g.vertex_tags(v) & (kRidge | kBoundary | kCorner | kRequired)) rough = true;
-      // Another sheet within a quarter of the edges around v (a thin part,
-      // nearly touching sheets of a defective input): a point of T_1 near v
-      // may be closest to that sheet.
-      double longest = 0;
-      for (Vertex w : one_ring(g, v)) longest = std::max(longest, norm(g.position(w) - g.position(v)));
-      if (geometry_.clearance(v) < 0.25 * longest) rough = true;
-      for (Corner c : g.fan(v))
-        if (!rough && dot(n, normalized(g.triangle_normal(SurfaceMesh::triangle(c)))) < kFoldCosine) rough = true;
+  std::vector<Vec3> unit(static_cast<std::size_t>(g.triangle_capacity()));
+  for (int i = 0; i < g.triangle_capacity(); ++i)
+    if (!g.is_deleted(Triangle(i))) unit[static_cast<std::size_t>(i)] = normalized(g.triangle_normal(Triangle(i)));
+  // Vertex by vertex, each fan once: its triangles are all rough when v is
+  // on a feature or has another sheet within a quarter of its edges (a thin
+  // part, nearly touching sheets of a defective input: a point of T_1 near v
+  // may be closest to that sheet); a triangle of the fan is rough when
+  // another triangle of the fan turns more than 60 degrees from it.
+  for (int i = 0; i < g.vertex_capacity(); ++i) {
+    const Vertex v(i);
+    if (g.is_deleted(v) || g.is_isolated(v)) continue;
+    double longest = 0;
+    for (Vertex w : one_ring(g, v)) longest = std::max(longest, norm(g.position(w) - g.position(v)));
+    const bool rough_vertex = (g.vertex_tags(v) & (kRidge | kBoundary | kCorner | kRequired)) ||
+                              geometry_.clearance(v) < 0.25 * longest;
+    const std::vector<Corner> fan = g.fan(v);
+    for (Corner a : fan) {
+      const auto ta = static_cast<std::size_t>(SurfaceMesh::triangle(a).idx);
+      if (rough_vertex) {
+        rough_[ta] = 1;
+        continue;
+      }
+      for (Corner b : fan)
+        if (dot(unit[ta], unit[static_cast<std::size_t>(SurfaceMesh::triangle(b).idx)]) < kFoldCosine) rough_[ta] = 1;
     }
-    rough_[static_cast<std::size_t>(i)] = rough ? 1 : 0;
   }
 }
 
