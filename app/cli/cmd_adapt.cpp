@@ -15,12 +15,10 @@
 #include "cli/progress.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "geometry/features.h"
 #include "io/mesh_io.h"
-#include "metric/hessian.h"
 #include "metric/metric_field.h"
 #include "metric/surface_metric.h"
-#include "remesh/remesher.h"
+#include "remesh/adapt.h"
 
 namespace anisurf::cli {
 
@@ -40,6 +38,10 @@ const char* kAdaptHelp =
     "  --size EXPR          isotropic size h(x,y,z)\n"
     "  --tensor EXPR        'm11, m12, m22, m13, m23, m33'\n"
     "  --hessian-of EXPR    with --error EPS | --complexity C | --vertices N [--norm P]\n"
+    "                       (a vertex count or complexity is met after bounds and\n"
+    "                       gradation)\n"
+    "  --hessian-of-field NAME  the same with the solution field NAME of --interpolate's\n"
+    "                       file (sol0, sol1 ... or the names the file gives)\n"
     "  --curvature          geometric metric from --hausd alone\n"
     "  --hmin A --hmax B    size bounds (also -hmin -hmax); --max-aniso K\n"
     "options:\n"
@@ -62,6 +64,15 @@ const char* kAdaptHelp =
     "  --geometry G         T_G: another mesh of the surface to project onto (e.g. a\n"
     "                       finer one); IN stays T_0, the metric's support\n"
     "  --iterations N       at most N rounds of split/collapse/swap/smooth (default 30)\n"
+    "  --cycles N           section 7.1's loop: the output becomes the next input and\n"
+    "                       the metric is derived again on it (an expression evaluated\n"
+    "                       anew, a field carried over), at most N times; stops at a\n"
+    "                       fixed point (vertex count within --fixed-point, default\n"
+    "                       0.02, of the previous cycle's). One line per cycle.\n"
+    "  --curve-turn DEG     collapses and moves along feature curves: largest turn\n"
+    "                       between the new and old segments (default 25)\n"
+    "  --curve-sag S        ... and largest sag of a new segment from the curve,\n"
+    "                       relative to its length (default 0.02)\n"
     "  --relax N            Remark 6: adapt first to N relaxed metrics between the\n"
     "                       input mesh's sizes and the target (default 0: off)\n"
     "  --report FILE        per-pass report (JSON)\n"
@@ -75,7 +86,8 @@ const char* kAdaptHelp =
     "\n"
     "examples:\n"
     "  anisurf adapt sphere.mesh -sol sphere_iso.sol -o out.mesh\n"
-    "  mmgs-style: anisurf adapt -in sphere.mesh -sol band.sol -hgrad -1 -out out.mesh\n";
+    "  mmgs-style: anisurf adapt -in sphere.mesh -sol band.sol -hgrad -1 -out out.mesh\n"
+    "  anisurf adapt square.mesh --hessian-of \"100*x^2\" --error 0.01 --cycles 6 -hgrad -1 -o sq.mesh\n";
 
 // Width of the terminal on stderr (COLUMNS, else 80, when unknown).
 int terminal_columns() {
@@ -129,244 +141,225 @@ nlohmann::json pass_json(const remesh::PassReport& r) {
   return j;
 }
 
-int run_adapt(const std::vector<std::string>& args) {
-  using Clock = std::chrono::steady_clock;
-  const auto t_start = Clock::now();
-  ArgParser p(args);
-  std::string in = p.option("-in", "--input");
-  std::string out = p.option("-o", "--output");
-  if (out.empty()) out = p.option("-out");
-  MetricSourceOptions mo = parse_metric_options(p);
+// The options of `anisurf adapt` as the engine's AdaptOptions (the metric
+// recipe is completed once the files are read).
+struct AdaptCommandLine {
+  std::string in, out, geometry, report, interpolate;
+  MetricSourceOptions metric;
+  remesh::AdaptOptions options;
+  double hausd = 0, hgrad = 1.3;
+  int verbose = 1;
+};
+
+double option_either(ArgParser& p, const char* long_name, const char* mmg_name, double fallback) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  double hausd = p.option_double("--hausd", nan);
-  if (std::isnan(hausd)) hausd = p.option_double("-hausd", nan);
-  double hgrad = p.option_double("--hgrad", nan);
-  if (std::isnan(hgrad)) hgrad = p.option_double("-hgrad", 1.3);
-  double ar = p.option_double("--ar", nan);
-  if (std::isnan(ar)) ar = p.option_double("-ar", 45.0);
-  const bool no_ridges = p.flag("--nr", "-nr");
-  remesh::RemeshOptions ro;
-  // The report's lmin 0.6 leaves edges in [0.6, 0.707): counted adapted by the
-  // algorithm but outside the [1/sqrt2, sqrt2] band users measure.
-  constexpr double kBandLmin = 0.72;
-  ro.op.lmin = p.option_double("--lmin", kBandLmin);
-  ro.op.lmax = p.option_double("--lmax", ro.op.lmax);
-  ro.max_iterations = static_cast<int>(p.option_double("--iterations", ro.max_iterations));
-  ro.relaxation_stages = static_cast<int>(p.option_double("--relax", 0));
-  if (ro.relaxation_stages < 0) throw UsageError{"--relax expects a number of stages >= 0"};
+  const double x = p.option_double(long_name, nan);
+  return std::isnan(x) ? p.option_double(mmg_name, fallback) : x;
+}
+
+int int_option(ArgParser& p, const char* name, int fallback, int lowest, const char* what) {
+  const double x = p.option_double(name, fallback);
+  if (!(x >= lowest) || x != std::floor(x) || x > 1e6)
+    throw UsageError{std::string(name) + " expects " + what + ", got " + std::to_string(x)};
+  return static_cast<int>(x);
+}
+
+AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
+  AdaptCommandLine c;
+  ArgParser p(args);
+  c.in = p.option("-in", "--input");
+  c.out = p.option("-o", "--output");
+  if (c.out.empty()) c.out = p.option("-out");
+  c.metric = parse_metric_options(p);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  c.hausd = option_either(p, "--hausd", "-hausd", nan);
+  c.hgrad = option_either(p, "--hgrad", "-hgrad", 1.3);
+  remesh::AdaptOptions& o = c.options;
+  o.features.ridge_angle_deg = option_either(p, "--ar", "-ar", 45.0);
+  o.features.detect_ridges = !p.flag("--nr", "-nr");
+  o.remesh.op.lmin = p.option_double("--lmin", o.remesh.op.lmin);
+  o.remesh.op.lmax = p.option_double("--lmax", o.remesh.op.lmax);
+  o.remesh.op.max_curve_turn_deg = p.option_double("--curve-turn", o.remesh.op.max_curve_turn_deg);
+  o.remesh.op.max_curve_sag = p.option_double("--curve-sag", o.remesh.op.max_curve_sag);
+  o.remesh.max_iterations = int_option(p, "--iterations", o.remesh.max_iterations, 1, "a number of rounds >= 1");
+  o.remesh.relaxation_stages = int_option(p, "--relax", 0, 0, "a number of stages >= 0");
+  o.cycles = int_option(p, "--cycles", 1, 1, "a number of cycles >= 1");
+  o.fixed_point = p.option_double("--fixed-point", o.fixed_point);
   const std::string length = p.option("--length");
-  const std::string interpolation_name = p.option("--interpolation");
+  const std::string interpolation = p.option("--interpolation");
   const std::string surface = p.option("--surface");
-  const std::string geometry_path = p.option("--geometry");
-  const std::string report_path = p.option("--report");
-  const std::string interpolate_path = p.option("--interpolate");
-  ro.record_touched = !report_path.empty();  // only the JSON report counts them
-  std::string verb = p.option("-v", "--verbose");
-  const int verbose = verb.empty() ? 1 : std::atoi(verb.c_str());
+  c.geometry = p.option("--geometry");
+  c.report = p.option("--report");
+  c.interpolate = p.option("--interpolate");
+  o.remesh.record_touched = !c.report.empty();  // only the JSON report counts them
+  const std::string verb = p.option("-v", "--verbose");
+  c.verbose = verb.empty() ? 1 : std::atoi(verb.c_str());
   // Every pass's state is printed (-v 2) or written (--report); else the round's last one.
-  ro.measure_every_pass = verbose >= 2 || !report_path.empty();
+  o.remesh.measure_every_pass = c.verbose >= 2 || !c.report.empty();
   auto pos = p.positionals();
-  if (in.empty() && !pos.empty()) {
-    in = pos.front();
+  if (c.in.empty() && !pos.empty()) {
+    c.in = pos.front();
     pos.erase(pos.begin());
   }
-  if (in.empty() || !pos.empty()) throw UsageError{"expected one input mesh"};
-  if (out.empty()) throw UsageError{"-o OUT.mesh is required"};
-  if (mo.source_count() > 1) throw UsageError{"give at most one metric source"};
-  if (mo.source_count() == 0) {
-    if (!(hausd > 0)) throw UsageError{"give a metric source (--sol, --size, ...) or --hausd D"};
-    mo.curvature = true;
+  if (c.in.empty() || !pos.empty()) throw UsageError{"expected one input mesh"};
+  if (c.out.empty()) throw UsageError{"-o OUT.mesh is required"};
+  if (c.metric.source_count() > 1) throw UsageError{"give at most one metric source"};
+  if (c.metric.source_count() == 0) {
+    if (!(c.hausd > 0)) throw UsageError{"give a metric source (--sol, --size, ...) or --hausd D"};
+    c.metric.curvature = true;
   }
-  if (mo.curvature && !(hausd > 0)) throw UsageError{"--curvature needs --hausd D with D > 0"};
-  if (!(ro.op.lmin > 0) || !(ro.op.lmax > ro.op.lmin)) throw UsageError{"need 0 < lmin < lmax"};
-  if (!length.empty() && length != "linear" && length != "log")
+  if (c.metric.curvature && !(c.hausd > 0)) throw UsageError{"--curvature needs --hausd D with D > 0"};
+  if (!c.metric.hessian_of_field.empty() && c.interpolate.empty())
+    throw UsageError{"--hessian-of-field NAME needs the solution: --interpolate F.sol"};
+  if (!(o.remesh.op.lmin > 0) || !(o.remesh.op.lmax > o.remesh.op.lmin)) throw UsageError{"need 0 < lmin < lmax"};
+  if (!(o.remesh.op.max_curve_turn_deg > 0) || !(o.remesh.op.max_curve_sag > 0))
+    throw UsageError{"--curve-turn and --curve-sag expect numbers > 0"};
+  if (!(o.fixed_point >= 0)) throw UsageError{"--fixed-point expects a share >= 0"};
+  if (length == "log")
+    o.length = LengthFormula::LinearSize;
+  else if (!length.empty() && length != "linear")
     throw UsageError{"--length expects linear or log, got '" + length + "'"};
-  // Across a sharp change of the metric between T_0's vertices (the band
-  // cases), the size read linearly follows the intended field best
-  // (sphere20k_band: q min 0.043 -> 0.252, qc mean 0.930 -> 0.944).
-  MetricInterpolation interpolation = MetricInterpolation::LinearSize;
-  if (interpolation_name == "linear")
-    interpolation = MetricInterpolation::Linear;
-  else if (interpolation_name == "inverse")
-    interpolation = MetricInterpolation::Inverse;
-  else if (interpolation_name == "log")
-    interpolation = MetricInterpolation::LogEuclidean;
-  else if (!interpolation_name.empty() && interpolation_name != "size")
-    throw UsageError{"--interpolation expects size, linear, inverse or log, got '" + interpolation_name + "'"};
-  if (!surface.empty() && surface != "g1" && surface != "g1-closest" && surface != "polyhedral")
+  if (interpolation == "linear")
+    o.interpolation = MetricInterpolation::Linear;
+  else if (interpolation == "inverse")
+    o.interpolation = MetricInterpolation::Inverse;
+  else if (interpolation == "log")
+    o.interpolation = MetricInterpolation::LogEuclidean;
+  else if (!interpolation.empty() && interpolation != "size")
+    throw UsageError{"--interpolation expects size, linear, inverse or log, got '" + interpolation + "'"};
+  if (surface == "polyhedral")
+    o.surface = remesh::SurfaceKind::Polyhedral;
+  else if (surface == "g1-closest")
+    o.surface = remesh::SurfaceKind::G1Closest;
+  else if (!surface.empty() && surface != "g1")
     throw UsageError{"--surface expects g1, g1-closest or polyhedral, got '" + surface + "'"};
-  const bool grade = hgrad > 1;
-  if (!grade && hgrad != -1 && hgrad != 0 && hgrad != 1) throw UsageError{"--hgrad expects a ratio > 1, or -1 (off)"};
+  if (!(c.hgrad > 1) && c.hgrad != -1 && c.hgrad != 0 && c.hgrad != 1)
+    throw UsageError{"--hgrad expects a ratio > 1, or -1 (off)"};
+  return c;
+}
 
-  // T_G = T_0: the input mesh with its features and its metric.
-  BuildReport report;
-  // -v 2: the time of each setup step.
-  auto t_phase = Clock::now();
-  const auto phase = [&](const char* what_phase) {
-    const auto now = Clock::now();
-    if (verbose >= 2) std::fprintf(stderr, "  setup: %-45s %.2f s\n", what_phase, std::chrono::duration<double>(now - t_phase).count());
-    t_phase = now;
-  };
-  SurfaceMesh input = load_mesh(in, &report);
-  phase("read the mesh");
+// The input mesh with the solution fields of --interpolate (renamed with
+// kInterpolatedPrefix, their names in *names) and the metric of -sol.
+struct AdaptFiles {
+  remesh::AdaptInput input;
   MetricField sol_metric;
-  std::string metric_name;
-  if (!mo.sol.empty()) {
-    const auto fields = read_sol(mo.sol, report.input_vertices);
-    attach_fields(input, fields, report);
-    for (const auto& f : fields)
-      if (metric_name.empty() && f.info.kind == FieldKind::Tensor) metric_name = f.info.name;
-    for (const auto& f : fields)
-      if (metric_name.empty() && f.info.kind == FieldKind::Scalar) metric_name = f.info.name;
+  std::vector<std::string> interpolated_names;  // the names in the --interpolate file
+};
+
+AdaptFiles read_adapt_inputs(AdaptCommandLine& c) {
+  AdaptFiles f;
+  BuildReport report;
+  f.input.mesh = load_mesh(c.in, &report);
+  f.input.vertex_origin = report.vertex_origin;
+  if (!c.metric.sol.empty()) {
+    // The metric is read into its own array; T_0 keeps no copy as a field.
+    SurfaceMesh with_fields = f.input.mesh;
+    attach_fields(with_fields, read_sol(c.metric.sol, report.input_vertices), report);
     try {
-      sol_metric = metric_from_field(input, {}, report.vertex_origin);
+      f.sol_metric = metric_from_field(with_fields, {}, report.vertex_origin);
     } catch (const MetricError& e) {
-      throw MetricError(mo.sol + ": " + e.what());
+      throw MetricError(c.metric.sol + ": " + e.what());
     }
   }
   // Section 6: a solution given on IN's vertices, interpolated onto the
   // adapted mesh from its location in T_0 (written to OUT.fields.sol).
-  if (!interpolate_path.empty()) {
-    auto fields = read_sol(interpolate_path, report.input_vertices);
-    for (std::size_t k = 0; k < fields.size(); ++k) fields[k].info.name = kInterpolatedPrefix + std::to_string(k);
-    attach_fields(input, fields, report);
+  if (!c.interpolate.empty()) {
+    auto fields = read_sol(c.interpolate, report.input_vertices);
+    std::string field_name;
+    for (std::size_t k = 0; k < fields.size(); ++k) {
+      f.interpolated_names.push_back(fields[k].info.name);
+      if (fields[k].info.name == c.metric.hessian_of_field) field_name = kInterpolatedPrefix + std::to_string(k);
+      fields[k].info.name = kInterpolatedPrefix + std::to_string(k);
+    }
+    if (!c.metric.hessian_of_field.empty() && field_name.empty()) {
+      std::string names;
+      for (const auto& n : f.interpolated_names) names += (names.empty() ? "" : ", ") + n;
+      throw UsageError{"--hessian-of-field: no field '" + c.metric.hessian_of_field + "' in " + c.interpolate +
+                       " (its fields: " + names + ")"};
+    }
+    c.metric.hessian_of_field = field_name;
+    attach_fields(f.input.mesh, fields, report);
   }
-  FeatureOptions fo;
-  fo.detect_ridges = !no_ridges;
-  fo.ridge_angle_deg = ar;
-  const FeatureReport fr = detect_features(input, fo);
-  std::string what;
-  MetricField metric = build_metric(input, report, std::move(sol_metric), mo, hausd, &what);
-  if (hausd > 0 && !mo.curvature) {
-    const MetricField geo = curvature_metric(input, hausd, mo.bounds);
-    for (int v = 0; v < input.vertex_capacity(); ++v)
-      if (!input.is_deleted(Vertex(v))) metric[v] = intersect(metric[v], geo[v]);
-    what += ", intersected with hausd " + std::to_string(hausd);
-  }
-  if (grade) {
-    GradationOptions g;
-    g.ratio = hgrad;
-    gradate_metric(input, metric, g);
-  }
-  check_metric_field(input, metric, report.vertex_origin);
-  phase("metric (features, sources, gradation)");
-  if (!metric_name.empty()) input.remove_field(metric_name);  // read into `metric`: T_0 need not keep it
+  return f;
+}
 
-  // T_G: the input itself, or another mesh of the same surface (--geometry).
-  SurfaceMesh separate_geometry;
-  const bool separate = !geometry_path.empty();
-  if (separate) {
-    separate_geometry = load_mesh(geometry_path);
-    detect_features(separate_geometry, fo);
-  }
-  const SurfaceMesh& tg = separate ? separate_geometry : input;
-  std::unique_ptr<remesh::GeometrySurface> geometry;
-  if (surface == "polyhedral")
-    geometry = std::make_unique<remesh::PolyhedralSurface>(tg);
-  else
-    geometry = std::make_unique<remesh::BezierGeometry>(
-        tg, surface == "g1-closest" ? remesh::BezierGeometry::Mode::Closest : remesh::BezierGeometry::Mode::Parametric);
-  phase("surface (frames, Bezier patches, locator)");
-  remesh::ControlSpace control(input, std::move(metric), !separate, interpolation,
-                               metric_name.empty() ? "metric" : metric_name);
-  const LengthFormula formula = length == "log" ? LengthFormula::LinearSize : LengthFormula::LinearMetric;
-  remesh::AdaptedMesh adapted(input, *geometry, control, formula, separate);
-  phase("T_1 located on T_G and T_0");
-  const double t_setup = std::chrono::duration<double>(Clock::now() - t_start).count();
-  if (verbose >= 1)
-    std::fprintf(stderr, "adapt: %s: %d vertices, %d triangles, %d feature edges, %d corners; metric %s; %s surface (%.2f s)\n",
-                 in.c_str(), input.n_vertices(), input.n_triangles(), fr.feature_edges, fr.corners, what.c_str(),
-                 geometry->name().c_str(), t_setup);
-
-  remesh::Remesher remesher(adapted, ro);
-  // Progress on stderr (cli/progress.h): one line per round (-v 1) or per pass
-  // (-v 2); on a terminal, a live line below them rewritten after every pass.
-  ProgressOptions po;
-  po.verbose = verbose;
-  po.terminal = isatty(STDERR_FILENO) != 0;
-  po.columns = terminal_columns();
-  if (const char* d = std::getenv("ANISURF_PROGRESS_DELAY"); d && *d) po.live_delay = std::atof(d);
-  po.predicted_vertices = predicted_vertex_count(metric_complexity(control.mesh(), control.target_metric()));
-  const remesh::PassReport initial = remesher.measure();
-  const int inverted_before = adapted.count_inverted();
-  std::vector<remesh::PassReport> passes;
-  double run_seconds = 0;
-  {
-    ProgressDisplay display(po, [](std::string_view text) {
-      std::fwrite(text.data(), 1, text.size(), stderr);
-      std::fflush(stderr);
-    });
-    const auto t_run = Clock::now();
-    passes = remesher.run([&](const remesh::PassReport& r) {
-      display.pass(r, std::chrono::duration<double>(Clock::now() - t_run).count());
-    });
-    display.finish();
-    run_seconds = std::chrono::duration<double>(Clock::now() - t_run).count();
-  }
-  const remesh::PassReport final_state = remesher.measure();
-  const int inverted = adapted.count_inverted();
-
-  // Outputs: the mesh, its metric (and the solution values) in compact
-  // numbering. T_1 is taken out and the G1 surface freed first: writing
-  // copies the mesh once more, and the peak memory must not add up both.
-  const std::string surface_name = geometry->name();
-  SurfaceMesh t1 = std::move(adapted.mesh());  // `adapted` is not used after this
-  geometry.reset();
-  t1.compact();
-  const Property<SymTensor3> t1_metric = t1.get_vertex_property<SymTensor3>("remesh:metric");
-  save_mesh(out, t1);
-  const std::string out_sol = sol_path_for(out);
-  std::vector<FieldData> fields;
+// OUT.sol: the metric (Mmg reads it); OUT.fields.sol: --interpolate's fields.
+void write_adapt_outputs(const AdaptCommandLine& c, const remesh::AdaptResult& r,
+                         const std::vector<std::string>& interpolated_names, std::string* fields_path) {
+  const SurfaceMesh& t1 = r.mesh;
+  save_mesh(c.out, t1);
   FieldData mf;
   mf.info = FieldInfo{"metric", FieldKind::Tensor, 6};
-  for (int v = 0; v < t1.vertex_capacity(); ++v) {
-    const SymTensor3& T = t1_metric[Vertex(v)];
-    mf.values.insert(mf.values.end(), T.m.begin(), T.m.end());
-  }
-  fields.push_back(std::move(mf));
-  std::vector<FieldData> interpolated;  // --interpolate's fields, to OUT.fields.sol
-  for (const FieldInfo& info : control.field_infos()) {
+  for (int v = 0; v < t1.vertex_capacity(); ++v) mf.values.insert(mf.values.end(), r.metric[v].m.begin(), r.metric[v].m.end());
+  std::vector<FieldData> interpolated;
+  for (const FieldInfo& info : t1.fields()) {
+    if (info.name.rfind(kInterpolatedPrefix, 0) != 0) continue;
     FieldData f;
     f.info = info;
+    f.info.name = interpolated_names.at(std::stoul(info.name.substr(std::string(kInterpolatedPrefix).size())));
     const Property<FieldValue> prop = t1.get_field(info.name);
     for (int v = 0; v < t1.vertex_capacity(); ++v)
       f.values.insert(f.values.end(), prop[Vertex(v)].begin(), prop[Vertex(v)].begin() + info.ncomp);
-    (info.name.rfind(kInterpolatedPrefix, 0) == 0 ? interpolated : fields).push_back(std::move(f));
+    interpolated.push_back(std::move(f));
   }
-  write_sol(out_sol, fields, t1.vertex_capacity(), 3);
-  const std::string out_fields = interpolated.empty() ? std::string() : fields_path_for(out);
-  if (!interpolated.empty()) write_sol(out_fields, interpolated, t1.vertex_capacity(), 3);
-  const double seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
+  write_sol(sol_path_for(c.out), {mf}, t1.vertex_capacity(), 3);
+  if (!interpolated.empty()) {
+    *fields_path = fields_path_for(c.out);
+    write_sol(*fields_path, interpolated, t1.vertex_capacity(), 3);
+  }
+}
 
-  int splits = 0, collapses = 0, swaps = 0, moves = 0, removed = 0;
-  for (const auto& r : passes) {
-    splits += r.splits;
-    collapses += r.collapses;
-    swaps += r.swaps;
-    moves += r.moves;
-    removed += r.removed_vertices;
+void write_report(const AdaptCommandLine& c, const remesh::AdaptResult& r) {
+  nlohmann::json j;
+  j["input"] = c.in;
+  j["output"] = c.out;
+  j["metric"] = r.cycles.front().metric;
+  j["surface"] = r.surface;
+  j["seconds"] = r.seconds;
+  j["setup_seconds"] = r.cycles.front().setup_seconds;
+  j["initial"] = pass_json(r.cycles.front().initial);
+  j["final"] = pass_json(r.cycles.back().final);
+  j["inverted"] = r.cycles.back().inverted_after;
+  nlohmann::json arr = nlohmann::json::array(), cycles = nlohmann::json::array();
+  for (const auto& cycle : r.cycles) {
+    for (const auto& pass : cycle.passes) arr.push_back(pass_json(pass));
+    nlohmann::json cj;
+    cj["cycle"] = cycle.cycle;
+    cj["metric"] = cycle.metric;
+    cj["predicted_vertices"] = cycle.predicted_vertices;
+    cj["complexity"] = cycle.complexity;
+    cj["vertices"] = cycle.final.vertices;
+    cj["triangles"] = cycle.final.triangles;
+    cj["in_band_pct"] = 100.0 * cycle.final.in_band_share;
+    if (!std::isnan(cycle.error_estimate)) cj["error_estimate"] = cycle.error_estimate;
+    cycles.push_back(cj);
   }
-  if (!report_path.empty()) {
-    nlohmann::json j;
-    j["input"] = in;
-    j["output"] = out;
-    j["metric"] = what;
-    j["surface"] = surface_name;
-    j["seconds"] = seconds;
-    j["setup_seconds"] = t_setup;
-    j["initial"] = pass_json(initial);
-    j["final"] = pass_json(final_state);
-    j["inverted"] = inverted;
-    nlohmann::json arr = nlohmann::json::array();
-    for (const auto& r : passes) arr.push_back(pass_json(r));
-    j["passes"] = arr;
-    AtomicFile f(report_path);
-    f.stream() << j.dump(1) << "\n";
-    f.commit();
+  j["passes"] = arr;
+  j["cycles"] = cycles;
+  j["fixed_point"] = r.fixed_point;
+  AtomicFile f(c.report);
+  f.stream() << j.dump(1) << "\n";
+  f.commit();
+}
+
+void print_summary(const AdaptCommandLine& c, const remesh::AdaptResult& r, const std::string& fields_path) {
+  const remesh::PassReport& initial = r.cycles.front().initial;
+  const remesh::PassReport& final_state = r.cycles.back().final;
+  int splits = 0, collapses = 0, swaps = 0, moves = 0, removed = 0;
+  double run_seconds = 0;
+  for (const auto& cycle : r.cycles) {
+    run_seconds += cycle.remesh_seconds;
+    for (const auto& p : cycle.passes) {
+      splits += p.splits;
+      collapses += p.collapses;
+      swaps += p.swaps;
+      moves += p.moves;
+      removed += p.removed_vertices;
+    }
   }
   std::printf("                 input      output\n");
-  std::printf("vertices     %9d   %9d   (the metric predicts ~%.0f: 2 C / sqrt 3)\n", initial.vertices,
-              final_state.vertices, po.predicted_vertices);
+  std::printf("vertices     %9d   %9d   (the metric predicts ~%.0f)\n", initial.vertices,
+              final_state.vertices, r.cycles.back().predicted_vertices);
   std::printf("triangles    %9d   %9d\n", initial.triangles, final_state.triangles);
   std::printf("in band      %8.1f%%   %8.1f%%   (edges with metric length in [0.71, 1.41])\n",
               100 * initial.in_band_share, 100 * final_state.in_band_share);
@@ -374,13 +367,85 @@ int run_adapt(const std::vector<std::string>& args) {
   std::printf("             %9.3f   %9.3f   (max)\n", initial.length_max, final_state.length_max);
   std::printf("c_K min      %9.3f   %9.3f   (eq. 17)\n", initial.q_min, final_state.q_min);
   std::printf("c_K mean     %9.3f   %9.3f\n", initial.q_mean, final_state.q_mean);
-  std::printf("inverted     %9d   %9d   (triangles facing against the surface normal)\n", inverted_before, inverted);
+  std::printf("inverted     %9d   %9d   (triangles facing against the surface normal)\n",
+              r.cycles.front().inverted_before, r.cycles.back().inverted_after);
+  if (r.cycles.size() > 1 || c.options.cycles > 1)
+    std::printf("cycles       %zu of %d%s\n", r.cycles.size(), c.options.cycles,
+                r.fixed_point ? " (fixed point: the vertex count changed by less than the tolerance)" : "");
   std::printf("operations   %d splits, %d collapses, %d swaps, %d moves, %d removed (valence < 4)\n", splits,
               collapses, swaps, moves, removed);
   std::printf("remeshing    %.2f s, %s operations per second\n", run_seconds,
               format_rate(splits + collapses + swaps + moves + removed, run_seconds).c_str());
-  std::printf("written      %s, %s%s%s (%.2f s)\n", out.c_str(), out_sol.c_str(), out_fields.empty() ? "" : ", ",
-              out_fields.c_str(), seconds);
+  std::printf("written      %s, %s%s%s (%.2f s)\n", c.out.c_str(), sol_path_for(c.out).c_str(),
+              fields_path.empty() ? "" : ", ", fields_path.c_str(), r.seconds);
+}
+
+// One line per cycle on stderr (-v >= 1 with --cycles > 1).
+void print_cycle(const remesh::CycleReport& cycle) {
+  std::fprintf(stderr, "cycle %d: %d vertices, %d triangles, complexity %.4g (predicted %.0f), %.1f%% in band",
+               cycle.cycle, cycle.final.vertices, cycle.final.triangles, cycle.complexity, cycle.predicted_vertices,
+               100.0 * cycle.final.in_band_share);
+  if (!std::isnan(cycle.error_estimate)) std::fprintf(stderr, ", estimated error %.4g", cycle.error_estimate);
+  std::fprintf(stderr, "\n");
+}
+
+int run_adapt(const std::vector<std::string>& args) {
+  AdaptCommandLine c = parse_adapt(args);
+  check_writable(c.out);
+  check_writable(sol_path_for(c.out));
+  const auto t_read = std::chrono::steady_clock::now();
+  AdaptFiles files = read_adapt_inputs(c);
+  c.options.metric = metric_recipe(c.metric, std::move(files.sol_metric), c.hausd, c.hgrad);
+  SurfaceMesh separate_geometry;
+  if (!c.geometry.empty()) {
+    separate_geometry = load_mesh(c.geometry);
+    files.input.geometry = &separate_geometry;
+  }
+  const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_read).count();
+  const int verbose = c.verbose;
+  if (verbose >= 2) std::fprintf(stderr, "  setup: %-45s %.2f s\n", "read the mesh", read_seconds);
+
+  // Progress on stderr (cli/progress.h): one line per round (-v 1) or per pass
+  // (-v 2); on a terminal, a live line below them rewritten after every pass.
+  ProgressOptions po;
+  po.verbose = verbose;
+  po.terminal = isatty(STDERR_FILENO) != 0;
+  po.columns = terminal_columns();
+  if (const char* d = std::getenv("ANISURF_PROGRESS_DELAY"); d && *d) po.live_delay = std::atof(d);
+  std::unique_ptr<ProgressDisplay> display;
+  std::chrono::steady_clock::time_point t_run;
+  const std::string in = c.in;
+  remesh::AdaptCallbacks cb;
+  cb.setup_step = [verbose](const std::string& step, double seconds) {
+    if (verbose >= 2) std::fprintf(stderr, "  setup: %-45s %.2f s\n", step.c_str(), seconds);
+  };
+  cb.cycle_started = [&](const remesh::CycleReport& cycle) {
+    if (verbose >= 1)
+      std::fprintf(stderr, "adapt: %s: %d vertices, %d triangles; metric %s%s (%.2f s)\n", in.c_str(),
+                   cycle.initial.vertices, cycle.initial.triangles, cycle.metric.c_str(),
+                   c.options.cycles > 1 ? (", cycle " + std::to_string(cycle.cycle)).c_str() : "",
+                   cycle.setup_seconds);
+    po.predicted_vertices = cycle.predicted_vertices;
+    display = std::make_unique<ProgressDisplay>(po, [](std::string_view text) {
+      std::fwrite(text.data(), 1, text.size(), stderr);
+      std::fflush(stderr);
+    });
+    t_run = std::chrono::steady_clock::now();
+  };
+  cb.pass = [&](const remesh::PassReport& r) {
+    display->pass(r, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_run).count());
+  };
+  cb.cycle_ended = [&](const remesh::CycleReport& cycle) {
+    display->finish();
+    display.reset();
+    if (verbose >= 1 && c.options.cycles > 1) print_cycle(cycle);
+  };
+  const remesh::AdaptResult result = remesh::adapt(std::move(files.input), c.options, cb);
+
+  std::string fields_path;
+  write_adapt_outputs(c, result, files.interpolated_names, &fields_path);
+  if (!c.report.empty()) write_report(c, result);
+  print_summary(c, result, fields_path);
   return 0;
 }
 

@@ -192,18 +192,18 @@ int run_metric(const std::vector<std::string>& args) {
     throw UsageError{"--hgrad-space expects metric or physical"};
   grad.space = hgrad_space == "physical" ? GradationSpace::Physical : GradationSpace::Metric;
 
+  if (!mo.hessian_of_field.empty())
+    throw UsageError{"--hessian-of-field is an option of `anisurf adapt` (with --interpolate F.sol)"};
   const auto t0 = std::chrono::steady_clock::now();
   LoadedMetric l = load_mesh_and_metric(pos[0], mo.sol);
   const SurfaceMesh& mesh = l.mesh;
-  const std::vector<int>& origin = l.report.vertex_origin;
-  std::string what;
-  MetricField M = build_metric(mesh, l.report, std::move(l.metric), mo, hausd, &what);
-  GradationReport gr;
-  if (!std::isnan(hgrad)) {
-    gr = gradate_metric(mesh, M, grad);
-    if (!gr.converged) std::cerr << "anisurf metric: warning: gradation stopped at its update cap\n";
-  }
-  check_metric_field(mesh, M, origin);
+  MetricRecipe recipe = metric_recipe(mo, std::move(l.metric), hausd, std::isnan(hgrad) ? 0 : hgrad);
+  recipe.hgrad_space = grad.space;
+  MetricResult built = build_metric(mesh, recipe, l.report.vertex_origin);
+  const MetricField& M = built.metric;
+  const std::string what = built.description;
+  const GradationReport& gr = built.gradation;
+  if (!std::isnan(hgrad) && !gr.converged) std::cerr << "anisurf metric: warning: gradation stopped at its update cap\n";
 
   // Back to the numbering of the file's vertices.
   const int n_file = l.report.input_vertices;
@@ -231,7 +231,7 @@ int run_metric(const std::vector<std::string>& args) {
   std::printf("metric      %s\n", what.c_str());
   std::printf("vertices    %d\n", mesh.n_vertices());
   std::printf("sizes       %.6g .. %.6g\n", hmin_out, hmax_out);
-  std::printf("complexity  %.6g  (predicted vertices %.0f)\n", C, predicted_vertex_count(C));
+  std::printf("complexity  %.6g  (predicted vertices %.0f)\n", C, predicted_vertices(mesh, M));
   if (!std::isnan(hgrad))
     std::printf("gradation   ratio %g (%s space): %lld updates at %d vertices, %s\n", grad.ratio,
                 grad.space == GradationSpace::Metric ? "metric" : "physical", gr.updates, gr.vertices_changed,

@@ -2,8 +2,6 @@
 
 #include <cmath>
 
-#include "metric/expression.h"
-#include "metric/hessian.h"
 #include "metric/surface_metric.h"
 
 namespace anisurf::cli {
@@ -13,6 +11,7 @@ MetricSourceOptions parse_metric_options(ArgParser& p) {
   o.size = p.option("--size");
   o.tensor = p.option("--tensor");
   o.hessian_of = p.option("--hessian-of");
+  o.hessian_of_field = p.option("--hessian-of-field");
   o.sol = p.option("--sol", "-sol");
   o.curvature = p.flag("--curvature");
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -26,8 +25,11 @@ MetricSourceOptions parse_metric_options(ArgParser& p) {
   o.bounds.hmax = p.option_double("--hmax", nan);
   if (std::isnan(o.bounds.hmax)) o.bounds.hmax = p.option_double("-hmax", std::numeric_limits<double>::infinity());
   o.bounds.max_anisotropy = p.option_double("--max-aniso", std::numeric_limits<double>::infinity());
-  if (!o.hessian_of.empty() && (!std::isnan(o.error) + !std::isnan(o.complexity) + !std::isnan(o.vertices)) != 1)
+  const bool hessian = !o.hessian_of.empty() || !o.hessian_of_field.empty();
+  if (hessian && (!std::isnan(o.error) + !std::isnan(o.complexity) + !std::isnan(o.vertices)) != 1)
     throw UsageError{"--hessian-of needs exactly one of --error EPS, --complexity C, --vertices N"};
+  if (!hessian && (!std::isnan(o.error) || !std::isnan(o.complexity) || !std::isnan(o.vertices)))
+    throw UsageError{"--error, --complexity and --vertices go with --hessian-of or --hessian-of-field"};
   if (o.bounds.hmin < 0 || !(o.bounds.hmax > 0) || o.bounds.hmin > o.bounds.hmax || !(o.bounds.max_anisotropy >= 1))
     throw UsageError{"bounds: need 0 <= hmin <= hmax and --max-aniso >= 1"};
   if (!norm_p.empty() && norm_p != "inf") {
@@ -41,39 +43,40 @@ MetricSourceOptions parse_metric_options(ArgParser& p) {
   return o;
 }
 
-MetricField build_metric(const SurfaceMesh& mesh, const BuildReport& report, MetricField sol_metric,
-                         const MetricSourceOptions& o, double hausd, std::string* what) {
-  const std::vector<int>& origin = report.vertex_origin;
-  MetricField M;
-  std::string w;
+MetricRecipe metric_recipe(const MetricSourceOptions& o, MetricField sol_metric, double hausd, double hgrad) {
+  using S = MetricRecipe::Source;
+  MetricRecipe r;
   if (!o.size.empty()) {
-    M = metric_from_size_expression(mesh, o.size, origin);
-    w = "size " + o.size;
+    r.source = S::Size;
+    r.expression = o.size;
   } else if (!o.tensor.empty()) {
-    M = metric_from_tensor_expression(mesh, o.tensor, origin);
-    w = "tensor " + o.tensor;
+    r.source = S::Tensor;
+    r.expression = o.tensor;
   } else if (!o.hessian_of.empty()) {
-    const RecoveredDerivatives d = recover_derivatives(mesh, evaluate_at_vertices(mesh, o.hessian_of, origin));
-    HessianMetricOptions h;
-    h.p = o.lp;
-    h.error_constant = o.error_constant;
-    h.bounds = o.bounds;
-    if (!std::isnan(o.error)) h.error = o.error;
-    if (!std::isnan(o.complexity)) h.target_vertices = predicted_vertex_count(o.complexity);
-    if (!std::isnan(o.vertices)) h.target_vertices = o.vertices;
-    if (!(h.error > 0) && !(h.target_vertices > 0)) throw UsageError{"the error or the complexity must be > 0"};
-    M = hessian_metric(mesh, d.hessian, h);
-    w = "Hessian of " + o.hessian_of;
+    r.source = S::Hessian;
+    r.expression = o.hessian_of;
+  } else if (!o.hessian_of_field.empty()) {
+    r.source = S::HessianField;
+    r.field = o.hessian_of_field;
   } else if (o.curvature) {
-    M = curvature_metric(mesh, hausd, o.bounds);
-    w = "curvature, hausd " + std::to_string(hausd);
+    r.source = S::Curvature;
   } else {
-    M = std::move(sol_metric);
-    w = "from " + o.sol;
+    r.source = S::Given;
+    r.given = std::move(sol_metric);
   }
-  if (o.has_bounds()) clamp_metric_field(mesh, M, o.bounds);
-  if (what) *what = w;
-  return M;
+  if (r.is_hessian()) {
+    if (!std::isnan(o.error)) r.error = o.error;
+    if (!std::isnan(o.complexity)) r.complexity = o.complexity;
+    if (!std::isnan(o.vertices)) r.vertices = o.vertices;
+    if (!(r.error > 0) && !(r.complexity > 0) && !(r.vertices > 0))
+      throw UsageError{"the error, the complexity or the vertex count must be > 0"};
+  }
+  r.lp = o.lp;
+  r.error_constant = o.error_constant;
+  r.bounds = o.bounds;
+  r.hausd = hausd > 0 ? hausd : 0;
+  r.hgrad = hgrad > 1 ? hgrad : 0;
+  return r;
 }
 
 }  // namespace anisurf::cli

@@ -10,11 +10,12 @@
 #include "metric/metric.h"
 #include "metric/metric_field.h"
 #include "mesh/build.h"
+#include "metric/recipe.h"
 
 namespace anisurf::cli {
 
 struct MetricSourceOptions {
-  std::string size, tensor, hessian_of, sol;
+  std::string size, tensor, hessian_of, hessian_of_field, sol;
   bool curvature = false;
   double error = std::numeric_limits<double>::quiet_NaN();
   double complexity = std::numeric_limits<double>::quiet_NaN();
@@ -23,7 +24,7 @@ struct MetricSourceOptions {
   double error_constant = 2.0 / 9.0;
   MetricBounds bounds;
   int source_count() const {
-    return !size.empty() + !tensor.empty() + !hessian_of.empty() + curvature + !sol.empty();
+    return !size.empty() + !tensor.empty() + !hessian_of.empty() + !hessian_of_field.empty() + curvature + !sol.empty();
   }
   bool has_bounds() const {
     return std::isfinite(bounds.hmax) || bounds.hmin > 0 || std::isfinite(bounds.max_anisotropy);
@@ -35,11 +36,10 @@ struct MetricSourceOptions {
 // does not require a source (callers decide).
 MetricSourceOptions parse_metric_options(ArgParser& p);
 
-// The metric of the source on `mesh` (whose vertex numbering follows
-// `report`), clamped to the bounds. `sol_metric`: the metric read from the
-// --sol file (used for the --sol source). `hausd` > 0 is the chordal
-// deviation of the --curvature source. `what` receives a description.
-MetricField build_metric(const SurfaceMesh& mesh, const BuildReport& report, MetricField sol_metric,
-                         const MetricSourceOptions& o, double hausd, std::string* what);
+// The engine's recipe (metric/recipe.h) for these options: `sol_metric` is
+// the metric read from the --sol file (the Given source), `hausd` > 0 the
+// chordal deviation (the Curvature source's, or intersected with the
+// others'), `hgrad` > 1 the gradation ratio (else none).
+MetricRecipe metric_recipe(const MetricSourceOptions& o, MetricField sol_metric, double hausd, double hgrad);
 
 }  // namespace anisurf::cli

@@ -15,10 +15,9 @@ using remesh::PassKind;
 using Clock = std::chrono::steady_clock;
 
 SharedGeometry start_geometry(const SurfaceMesh& input, const AdaptSettings& settings) {
-  const bool g1 = settings.g1_surface;
-  return std::async(std::launch::async, [&input, g1]() -> std::shared_ptr<remesh::GeometrySurface> {
-           if (g1) return std::make_shared<remesh::BezierGeometry>(input);
-           return std::make_shared<remesh::PolyhedralSurface>(input);
+  const remesh::SurfaceKind kind = settings.surface;
+  return std::async(std::launch::async, [&input, kind]() -> std::shared_ptr<remesh::GeometrySurface> {
+           return remesh::make_geometry(input, kind);
          }).share();
 }
 
@@ -78,11 +77,11 @@ void Adaptation::start(std::size_t from, int max_passes) {
 void Adaptation::rebuild_from(const Snapshot& s) {
   if (!geometry_) {
     geometry_ = geometry_future_.valid() ? geometry_future_.get() : start_geometry(input_, settings_).get();
-    control_ = std::make_unique<remesh::ControlSpace>(input_, metric_, true, MetricInterpolation::LinearSize);  // as `anisurf adapt`
+    control_ = remesh::make_control(input_, metric_, true, settings_);
   }
   remesher_.reset();
   adapted_.reset();
-  adapted_ = std::make_unique<remesh::AdaptedMesh>(s.mesh, *geometry_, *control_);
+  adapted_ = std::make_unique<remesh::AdaptedMesh>(s.mesh, *geometry_, *control_, settings_.length);
   remesher_ = std::make_unique<remesh::Remesher>(*adapted_, settings_.remesh);
   remesher_->set_schedule(s.schedule);
 }

@@ -15,20 +15,14 @@
 
 #include "mesh/surface_mesh.h"
 #include "metric/metric_field.h"
-#include "remesh/remesher.h"
+#include "remesh/adapt.h"
 
 namespace anisurf::editor {
 
-struct AdaptSettings {
-  // lmin / lmax, passes per round ...; lmin 0.72 as `anisurf adapt` (the
-  // edges end in [1/sqrt2, sqrt2]; the report's 0.6 leaves some below).
-  remesh::RemeshOptions remesh = [] {
-    remesh::RemeshOptions o;
-    o.op.lmin = 0.72;
-    return o;
-  }();
-  bool g1_surface = true;            // project on the G1 Bezier surface (else the polyhedral one)
-};
+// The options of the engine's pipeline (remesh/adapt.h): the same defaults
+// as `anisurf adapt` (lmin 0.72, the size read linearly in T_0, the G1
+// surface). The metric recipe is the session's.
+using AdaptSettings = remesh::AdaptOptions;
 
 using remesh::Schedule;
 

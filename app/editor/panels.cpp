@@ -144,6 +144,10 @@ void metric_panel(EditorSession& s, PanelState& p) {
   ImGui::SetNextItemWidth(200);
   track(ImGui::SliderFloat("hgrad (1: off)", &hgrad, 1.0f, 3.0f, "%.2f"));
   e.hgrad = hgrad;
+  if (e.source != MetricSettings::Source::Curvature) {
+    ImGui::SetNextItemWidth(200);
+    track(ImGui::InputDouble("hausd bound (0: none)", &e.hausd_bound, 0, 0, "%.4g"));
+  }
   ImGui::SetNextItemWidth(200);
   track(ImGui::InputDouble("hmin", &e.hmin, 0, 0, "%.4g"));
   double hmax = std::isinf(e.hmax) ? 0.0 : e.hmax, aniso = std::isinf(e.max_aniso) ? 0.0 : e.max_aniso;

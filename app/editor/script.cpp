@@ -122,12 +122,16 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
       throw LineError{"metric: unknown source '" + kind + "' (iso, size, hessian, curvature, sol)"};
     }
     s.set_settings(m);
-  } else if (cmd == "hgrad" || cmd == "hmin" || cmd == "hmax" || cmd == "max-aniso") {
+  } else if (cmd == "hgrad" || cmd == "hmin" || cmd == "hmax" || cmd == "max-aniso" || cmd == "hausd") {
     need_mesh();
     arity(l, 1, 1, (cmd + " VALUE").c_str());
     MetricSettings m = s.settings();
     const double x = number(l, 1, "VALUE");
     if (cmd == "hgrad") m.hgrad = x;
+    if (cmd == "hausd") {
+      if (!(x >= 0)) throw LineError{"hausd expects a chordal deviation >= 0 (0: none)"};
+      m.hausd_bound = x;
+    }
     if (cmd == "hmin") m.hmin = x;
     if (cmd == "hmax") m.hmax = x > 0 ? x : INFINITY;
     if (cmd == "max-aniso") m.max_aniso = x >= 1 ? x : INFINITY;
@@ -294,6 +298,9 @@ const char* script_help() {
          "  metric sol FILE                        metric read from a .sol\n"
          "  hgrad R | hmin A | hmax B | max-aniso K  gradation and bounds (hgrad <= 1: off;\n"
          "                                         hmax 0, max-aniso 0: none)\n"
+         "  hausd D                                bound the chordal deviation: the metric is\n"
+         "                                         intersected with the curvature metric of D\n"
+         "                                         (Mmg's -hausd; 0: none)\n"
          "  brush set|smooth|erase [STRENGTH]      brush mode and strength (0, 1]\n"
          "  brush direction stroke|max-curvature|min-curvature\n"
          "  paint X Y Z RADIUS SIZE [STRETCH DIRX DIRY DIRZ]\n"

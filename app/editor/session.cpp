@@ -121,14 +121,8 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
   if (!sol_path.empty()) {
     s.source = MetricSettings::Source::Sol;
     s.sol_path = sol_path;
-    // As compute_metric() (and `anisurf adapt`): bounds, then the gradation.
-    m = std::move(sol_metric);
-    clamp_metric_field(*input_, m, {s.hmin, s.hmax, s.max_aniso});
-    if (s.hgrad > 1) {
-      GradationOptions g;
-      g.ratio = s.hgrad;
-      gradate_metric(*input_, m, g);
-    }
+    // As compute_metric() (and `anisurf adapt`): the recipe with the metric given.
+    m = build_metric(*input_, metric_recipe(s, std::move(sol_metric)), vertex_origin_).metric;
   } else {
     if (s.source == MetricSettings::Source::Sol) s.source = MetricSettings::Source::Iso;
     // A default iso size from the mesh (1/40 of its diagonal); the settings
@@ -148,7 +142,7 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
   base_metric_ = m;
   metric_ = std::move(m);
   settings_ = s;
-  predicted_vertices_ = predicted_vertex_count(metric_complexity(*input_, metric_));
+  predicted_vertices_ = anisurf::predicted_vertices(*input_, metric_);
   t0_snapshot_ = initial_snapshot();
   ++opened_;
   journal_.clear();
@@ -159,61 +153,64 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
   dirty_ = false;
 }
 
-MetricField EditorSession::compute_metric(const MetricSettings& s) const {
-  const SurfaceMesh& mesh = *input_;
-  const MetricBounds bounds{s.hmin, s.hmax, s.max_aniso};
-  if (!(s.hmin >= 0) || !(s.hmax > 0) || s.hmin > s.hmax || !(s.max_aniso >= 1))
-    throw Error("bounds: need 0 <= hmin <= hmax and max anisotropy >= 1");
-  MetricField M;
+MetricRecipe EditorSession::metric_recipe(const MetricSettings& s, MetricField loaded) const {
+  using S = MetricRecipe::Source;
+  MetricRecipe r;
+  r.bounds = {s.hmin, s.hmax, s.max_aniso};
+  r.hgrad = s.hgrad;
+  r.hausd = s.hausd_bound > 0 ? s.hausd_bound : 0;
   switch (s.source) {
     case MetricSettings::Source::Iso:
-      if (!(s.iso > 0) || !std::isfinite(s.iso)) throw Error("metric iso: the size must be > 0");
-      M.assign(static_cast<std::size_t>(mesh.vertex_capacity()), isotropic_metric(s.iso));
+      r.source = S::Iso;
+      r.iso = s.iso;
       break;
     case MetricSettings::Source::Size:
-      M = metric_from_size_expression(mesh, s.size_expr, vertex_origin_);
+      r.source = S::Size;
+      r.expression = s.size_expr;
       break;
-    case MetricSettings::Source::Hessian: {
+    case MetricSettings::Source::Hessian:
       if (!(s.hessian_error > 0)) throw Error("metric hessian: the error must be > 0");
-      const RecoveredDerivatives d = recover_derivatives(mesh, evaluate_at_vertices(mesh, s.hessian_expr, vertex_origin_));
-      HessianMetricOptions h;
-      h.error = s.hessian_error;
-      h.bounds = bounds;
-      M = hessian_metric(mesh, d.hessian, h);
+      r.source = S::Hessian;
+      r.expression = s.hessian_expr;
+      r.error = s.hessian_error;
       break;
-    }
     case MetricSettings::Source::Curvature:
       if (!(s.hausd > 0)) throw Error("metric curvature: hausd must be > 0");
-      M = curvature_metric(mesh, s.hausd, bounds);
+      r.source = S::Curvature;
+      r.hausd = s.hausd;
       break;
     case MetricSettings::Source::Sol: {
+      r.source = S::Given;
+      if (!loaded.empty()) {
+        r.given = std::move(loaded);
+        break;
+      }
       BuildReport report;
       SurfaceMesh copy = load_mesh(mesh_path_, &report);
-      if (copy.vertex_capacity() != mesh.vertex_capacity())
+      if (copy.vertex_capacity() != input_->vertex_capacity())
         throw Error(s.sol_path + ": does not match the mesh's vertices");
       attach_fields(copy, read_sol(s.sol_path, report.input_vertices), report);
       try {
-        M = metric_from_field(copy, {}, report.vertex_origin);
+        r.given = metric_from_field(copy, {}, report.vertex_origin);
       } catch (const MetricError& e) {
         throw Error(s.sol_path + ": " + e.what());
       }
       break;
     }
   }
-  clamp_metric_field(mesh, M, bounds);
-  if (s.hgrad > 1) {
-    GradationOptions g;
-    g.ratio = s.hgrad;
-    gradate_metric(mesh, M, g);
-  }
-  check_metric_field(mesh, M, vertex_origin_);
-  return M;
+  return r;
+}
+
+MetricField EditorSession::compute_metric(const MetricSettings& s) const {
+  // The engine's recipe (the same chain as `anisurf adapt`): source, bounds,
+  // hausd bound, gradation.
+  return build_metric(*input_, metric_recipe(s), vertex_origin_).metric;
 }
 
 void EditorSession::apply_metric(MetricField m, const MetricSettings& s, bool reset_adaptation) {
   metric_ = std::move(m);
   settings_ = s;
-  predicted_vertices_ = predicted_vertex_count(metric_complexity(*input_, metric_));
+  predicted_vertices_ = anisurf::predicted_vertices(*input_, metric_);
   t0_snapshot_ = initial_snapshot();
   if (reset_adaptation) retire_adaptation();
   selection_ = {};
@@ -241,6 +238,7 @@ void EditorSession::set_settings(const MetricSettings& s) {
   apply_metric(std::move(m), s, true);
   if (s.source != old.source || source_line(s) != source_line(old)) log(source_line(s));
   if (s.hgrad != old.hgrad) log("hgrad " + num(s.hgrad));
+  if (s.hausd_bound != old.hausd_bound) log("hausd " + num(s.hausd_bound));
   if (s.hmin != old.hmin) log("hmin " + num(s.hmin));
   if (s.hmax != old.hmax) log("hmax " + num(std::isinf(s.hmax) ? 0.0 : s.hmax));
   if (s.max_aniso != old.max_aniso) log("max-aniso " + num(std::isinf(s.max_aniso) ? 0.0 : s.max_aniso));
@@ -248,7 +246,7 @@ void EditorSession::set_settings(const MetricSettings& s) {
 
 double EditorSession::predict_vertices(const MetricSettings& s) const {
   if (!input_) return 0;
-  return predicted_vertex_count(metric_complexity(*input_, compute_metric(s)));
+  return anisurf::predicted_vertices(*input_, compute_metric(s));
 }
 
 // --- painting ---------------------------------------------------------------
@@ -349,7 +347,7 @@ void EditorSession::dab(const Vec3& centre, const Vec3& direction) {
   }
   if (!updates.empty()) {
     retire_adaptation();
-    predicted_vertices_ = predicted_vertex_count(metric_complexity(mesh, metric_));
+    predicted_vertices_ = anisurf::predicted_vertices(mesh, metric_);
     t0_snapshot_ = initial_snapshot();
     changed();
   }

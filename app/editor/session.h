@@ -16,6 +16,7 @@
 #include "editor/analysis.h"
 #include "mesh/surface_mesh.h"
 #include "metric/metric_field.h"
+#include "metric/recipe.h"
 
 namespace anisurf::editor {
 
@@ -29,6 +30,7 @@ struct MetricSettings {
   double hausd = 0.01;                   // metric curvature HAUSD
   std::string sol_path;                  // metric sol FILE
   double hgrad = 1.3;                    // gradation ratio (<= 1: off)
+  double hausd_bound = 0;                // chordal deviation bound (Mmg's -hausd; 0: none)
   double hmin = 0.0;
   double hmax = std::numeric_limits<double>::infinity();
   double max_aniso = std::numeric_limits<double>::infinity();
@@ -163,6 +165,9 @@ class EditorSession {
   void open_stroke();   // begin_stroke / end_stroke without the journal lines
   void close_stroke();
   void changed();
+  // The engine's metric recipe of the settings (`loaded`: the metric of a
+  // Sol source already read, else the file is read).
+  MetricRecipe metric_recipe(const MetricSettings& s, MetricField loaded = {}) const;
   MetricField compute_metric(const MetricSettings& s) const;
   const std::vector<Vec3>& vertex_normals_cached();
   const std::vector<SymTensor3>& curvature_cached();

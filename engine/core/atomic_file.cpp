@@ -1,5 +1,7 @@
 #include "core/atomic_file.h"
 
+#include <filesystem>
+
 #include <unistd.h>
 
 #include <cerrno>
@@ -30,6 +32,16 @@ void AtomicFile::commit() {
   if (std::rename(tmp_.c_str(), path_.c_str()) != 0)
     throw IoError(path_ + ": cannot rename temporary file (" + std::strerror(errno) + ")");
   committed_ = true;
+}
+
+void check_writable(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a directory, not a file to write");
+  const std::string probe = path + ".tmp-" + std::to_string(::getpid());
+  std::ofstream out(probe, std::ios::binary | std::ios::trunc);
+  if (!out) throw IoError(path + ": cannot be written (" + std::strerror(errno) + ")");
+  out.close();
+  std::remove(probe.c_str());
 }
 
 }  // namespace anisurf

@@ -26,4 +26,9 @@ class AtomicFile {
   bool committed_ = false;
 };
 
+// Checks before a long computation that `path` can be written as AtomicFile
+// writes it: not a directory, and its directory exists and accepts a new
+// file (a probe file is created and removed). Throws IoError naming the path.
+void check_writable(const std::string& path);
+
 }  // namespace anisurf

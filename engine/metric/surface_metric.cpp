@@ -1,5 +1,7 @@
 #include "metric/surface_metric.h"
 
+#include "metric/length.h"
+
 #include <cmath>
 
 namespace anisurf {
@@ -59,6 +61,22 @@ double metric_complexity(const SurfaceMesh& mesh, const MetricField& metric) {
     c += 0.5 * area2 * s / 3.0;
   }
   return c;
+}
+
+double predicted_vertices(const SurfaceMesh& mesh, const MetricField& metric) {
+  double boundary = 0;
+  int corners = 0, boundary_edges = 0;
+  for (int c = 0; c < 3 * mesh.triangle_capacity(); ++c) {
+    if (mesh.is_deleted(Triangle(c / 3))) continue;
+    ++corners;
+    if (!mesh.is_boundary_edge(Corner(c))) continue;
+    ++boundary_edges;
+    const Vertex a = mesh.vertex(SurfaceMesh::next(Corner(c))), b = mesh.vertex(SurfaceMesh::prev(Corner(c)));
+    boundary += edge_length(metric[a.idx], metric[b.idx], mesh.position(b) - mesh.position(a), LengthFormula::LinearMetric);
+  }
+  const int edges = (corners + boundary_edges) / 2;
+  const int euler = mesh.n_vertices() - edges + mesh.n_triangles();
+  return std::max(predicted_vertex_count(metric_complexity(mesh, metric)) + 0.5 * boundary + euler, 3.0);
 }
 
 }  // namespace anisurf

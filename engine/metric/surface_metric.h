@@ -32,6 +32,13 @@ double metric_complexity(const SurfaceMesh& mesh, const MetricField& metric);
 // has metric area sqrt(3)/4 and a closed surface has about 2 triangles per
 // vertex, so N = 2 C / sqrt(3) (gen.py sizes its cases this way).
 inline double predicted_vertex_count(double complexity) { return 2.0 * complexity / std::sqrt(3.0); }
+// Vertices of a mesh of this surface with unit equilateral triangles in the
+// metric, boundaries included: Euler's relation with T = 4 C / sqrt(3)
+// triangles and n_b boundary vertices gives V = 2 C / sqrt(3) + n_b / 2 + chi,
+// n_b the metric length of the boundary, chi the mesh's Euler characteristic.
+// On a strongly stretched metric over an open surface the boundary term is
+// large (a unit square with 100 x^2: 54 -> 122).
+double predicted_vertices(const SurfaceMesh& mesh, const MetricField& metric);
 // The inverse: complexity asked for N vertices.
 inline double complexity_for_vertices(double n_vertices) { return 0.5 * std::sqrt(3.0) * n_vertices; }
 

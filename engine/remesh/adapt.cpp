@@ -1,0 +1,174 @@
+#include "remesh/adapt.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "core/error.h"
+#include "metric/surface_metric.h"
+
+namespace anisurf::remesh {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// Times the setup steps and reports each to the callback.
+class StepTimer {
+ public:
+  explicit StepTimer(const AdaptCallbacks& cb) : cb_(cb), t_(Clock::now()) {}
+  void done(const char* step) {
+    const double s = seconds_since(t_);
+    if (cb_.setup_step) cb_.setup_step(step, s);
+    total_ += s;
+    t_ = Clock::now();
+  }
+  double total() const { return total_; }
+  void restart() {
+    total_ = 0;
+    t_ = Clock::now();
+  }
+
+ private:
+  const AdaptCallbacks& cb_;
+  Clock::time_point t_;
+  double total_ = 0;
+};
+
+// The target metric stored on T_1's vertices by the data-transfer hook.
+MetricField vertex_metric(const SurfaceMesh& t1) {
+  const Property<SymTensor3> p = t1.get_vertex_property<SymTensor3>("remesh:metric");
+  MetricField m(static_cast<std::size_t>(t1.vertex_capacity()), SymTensor3::identity(1.0));
+  for (int v = 0; v < t1.vertex_capacity(); ++v)
+    if (!t1.is_deleted(Vertex(v))) m[v] = p[Vertex(v)];
+  return m;
+}
+
+// The recipe for the next cycle: the same, but a given metric is the one
+// carried onto the adapted mesh (it cannot be derived again).
+MetricRecipe next_recipe(const MetricRecipe& r, const SurfaceMesh& t1) {
+  MetricRecipe next = r;
+  if (r.source == MetricRecipe::Source::Given) next.given = vertex_metric(t1);
+  return next;
+}
+
+bool is_fixed_point(const std::vector<CycleReport>& cycles, double tolerance) {
+  if (cycles.size() < 2) return false;
+  const double a = cycles[cycles.size() - 2].final.vertices, b = cycles.back().final.vertices;
+  return std::abs(b - a) <= tolerance * a;
+}
+
+}  // namespace
+
+RemeshOptions band_remesh_options() {
+  RemeshOptions o;
+  o.op.lmin = 0.72;
+  return o;
+}
+
+void check_options(const AdaptOptions& o) {
+  check_recipe(o.metric);
+  if (!(o.remesh.op.lmin > 0) || !(o.remesh.op.lmax > o.remesh.op.lmin))
+    throw Error("the edge length band needs 0 < lmin < lmax");
+  if (o.cycles < 1) throw Error("the number of cycles must be >= 1");
+  if (!(o.fixed_point >= 0)) throw Error("the fixed-point tolerance must be >= 0");
+  if (o.remesh.max_iterations < 1) throw Error("the number of rounds must be >= 1");
+  if (o.remesh.relaxation_stages < 0) throw Error("the number of relaxation stages must be >= 0");
+}
+
+std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKind kind) {
+  switch (kind) {
+    case SurfaceKind::Polyhedral: return std::make_unique<PolyhedralSurface>(tg);
+    case SurfaceKind::G1Closest: return std::make_unique<BezierGeometry>(tg, BezierGeometry::Mode::Closest);
+    case SurfaceKind::G1: break;
+  }
+  return std::make_unique<BezierGeometry>(tg, BezierGeometry::Mode::Parametric);
+}
+
+std::unique_ptr<ControlSpace> make_control(const SurfaceMesh& t0, MetricField metric, bool t0_is_geometry,
+                                           const AdaptOptions& options) {
+  return std::make_unique<ControlSpace>(t0, std::move(metric), t0_is_geometry, options.interpolation);
+}
+
+AdaptResult adapt(AdaptInput input, const AdaptOptions& options, const AdaptCallbacks& cb) {
+  check_options(options);
+  const auto t_start = Clock::now();
+  AdaptResult result;
+  StepTimer timer(cb);
+
+  // T_G: the input, or the separate geometry, with its features; T_0 (and
+  // T_1, a copy of it) carries the same tags. With several cycles T_0 moves
+  // on to the adapted meshes and T_G stays a copy of the input (same
+  // numbering: the first cycle's T_0 is still T_G).
+  SurfaceMesh t0 = std::move(input.mesh);
+  const bool separate = input.geometry != nullptr;
+  result.features = detect_features(t0, options.features);
+  SurfaceMesh tg_storage;
+  if (separate) {
+    tg_storage = *input.geometry;
+    result.features = detect_features(tg_storage, options.features);
+  } else if (options.cycles > 1) {
+    tg_storage = t0;
+  }
+  const SurfaceMesh& tg = separate || options.cycles > 1 ? tg_storage : t0;
+  timer.done("features");
+
+  std::unique_ptr<GeometrySurface> geometry;
+  MetricRecipe recipe = options.metric;
+  for (int cycle = 1; cycle <= options.cycles; ++cycle) {
+    const bool t0_is_geometry = cycle == 1 && !separate;
+    CycleReport report;
+    report.cycle = cycle;
+    MetricResult metric = build_metric(t0, recipe, cycle == 1 ? input.vertex_origin : std::vector<int>{});
+    report.metric = metric.description;
+    report.complexity = metric.complexity;
+    report.predicted_vertices = metric.predicted_vertices;
+    report.scaling_steps = metric.scaling_steps;
+    timer.done("metric");
+    if (!geometry) {  // after the first metric: a metric refused costs no surface
+      geometry = make_geometry(tg, options.surface);
+      result.surface = geometry->name();
+      timer.done("surface (frames, Bezier patches, locator)");
+    }
+    auto control = make_control(t0, std::move(metric.metric), t0_is_geometry, options);
+    auto adapted = std::make_unique<AdaptedMesh>(t0, *geometry, *control, options.length, cycle == 1 && separate);
+    timer.done("T_1 located on T_G and T_0");
+    report.setup_seconds = timer.total();
+
+    auto remesher = std::make_unique<Remesher>(*adapted, options.remesh);
+    report.initial = remesher->measure();
+    report.inverted_before = adapted->count_inverted();
+    if (cb.cycle_started) cb.cycle_started(report);
+    const auto t_run = Clock::now();
+    report.passes = remesher->run([&](const PassReport& r) {
+      if (cb.pass) cb.pass(r);
+    });
+    report.remesh_seconds = seconds_since(t_run);
+    report.final = remesher->measure();
+    report.inverted_after = adapted->count_inverted();
+
+    SurfaceMesh t1 = std::move(adapted->mesh());
+    remesher.reset();
+    adapted.reset();
+    control.reset();
+    if (recipe.is_hessian())
+      report.error_estimate = estimated_interpolation_error(t1, recipe_hessian(t1, recipe), recipe.lp);
+    result.cycles.push_back(std::move(report));
+    result.fixed_point = is_fixed_point(result.cycles, options.fixed_point);
+    if (cb.cycle_ended) cb.cycle_ended(result.cycles.back());
+    const bool last = cycle == options.cycles || result.fixed_point;
+    if (last) geometry.reset();  // freed before the output is compacted
+    recipe = next_recipe(recipe, t1);
+    t0 = std::move(t1);
+    if (last) break;
+    timer.restart();
+  }
+  t0.compact();
+  result.metric = vertex_metric(t0);
+  result.mesh = std::move(t0);
+  result.seconds = seconds_since(t_start);
+  return result;
+}
+
+}  // namespace anisurf::remesh

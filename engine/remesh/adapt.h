@@ -1,0 +1,120 @@
+// The adaptation pipeline, in memory, for every front end (the command line,
+// the editor, scripts, library callers): features of T_G -> the metric of
+// T_0 (metric/recipe.h: source, bounds, hausd, gradation) -> the surface T_G
+// (G1 or polyhedral) -> T_1 located on T_G and T_0 -> the remeshing loop of
+// the report's section 6 -> T_1 with its metric and T_0's solution fields
+// interpolated (section 6). With cycles > 1 the output becomes the next T_0
+// and the recipe's metric is derived again on it (the adapt -> recompute ->
+// adapt loop of section 7.1), T_G staying the input's surface.
+//
+//   remesh::AdaptOptions o;
+//   o.metric.source = MetricRecipe::Source::Hessian;
+//   o.metric.expression = "100*x^2";
+//   o.metric.error = 0.01;
+//   o.cycles = 6;
+//   remesh::AdaptResult r = remesh::adapt({std::move(mesh)}, o);
+#pragma once
+#include <functional>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "geometry/features.h"
+#include "metric/recipe.h"
+#include "remesh/remesher.h"
+
+namespace anisurf::remesh {
+
+enum class SurfaceKind {
+  G1,          // the G1 Bezier surface at the parameters of the polyhedral projection (section 3)
+  G1Closest,   // the closest point of the G1 surface (slower)
+  Polyhedral,  // T_G's triangles
+};
+
+// The remeshing options of every front end: the report's, with lmin 0.72 so
+// that the edges end in [1/sqrt2, sqrt2], the band Mmg and the evaluators
+// measure (the report's lmin 0.6 counts edges in [0.6, 0.707) as adapted).
+RemeshOptions band_remesh_options();
+
+struct AdaptOptions {
+  MetricRecipe metric;
+  FeatureOptions features;
+  RemeshOptions remesh = band_remesh_options();
+  // How T_0's metric is read between its vertices: the size linear follows a
+  // sharp change between T_0's vertices best (sphere20k_band: q min 0.043 ->
+  // 0.252 against the coefficients linear).
+  MetricInterpolation interpolation = MetricInterpolation::LinearSize;
+  LengthFormula length = LengthFormula::LinearMetric;  // eq. 6
+  SurfaceKind surface = SurfaceKind::G1;
+  // Adaptation cycles (section 7.1): each adapted mesh is the next T_0, its
+  // metric derived again from the recipe. They stop early at a fixed point:
+  // a cycle whose vertex count is within `fixed_point` (relative) of the
+  // previous cycle's.
+  int cycles = 1;
+  double fixed_point = 0.02;
+};
+
+// What an adaptation starts from.
+struct AdaptInput {
+  // T_0 (and T_G unless `geometry`): positions, tags, references and the
+  // solution fields to interpolate (every field of the mesh).
+  SurfaceMesh mesh;
+  // File numbering of the vertex slots (BuildReport::vertex_origin), for
+  // error messages; may be empty.
+  std::vector<int> vertex_origin;
+  // T_G when it is another mesh of the surface (e.g. a finer one); must
+  // outlive the call.
+  const SurfaceMesh* geometry = nullptr;
+};
+
+// One cycle: its metric, the passes, the state before and after.
+struct CycleReport {
+  int cycle = 1;
+  std::string metric;  // MetricResult::description
+  double complexity = 0;
+  double predicted_vertices = 0;
+  int scaling_steps = 0;
+  PassReport initial, final;  // measured states of T_1 before and after the passes
+  int inverted_before = 0, inverted_after = 0;
+  std::vector<PassReport> passes;
+  // Hessian sources: the estimated interpolation error of the output
+  // (estimated_interpolation_error with the recipe's norm); NaN otherwise.
+  double error_estimate = std::numeric_limits<double>::quiet_NaN();
+  double setup_seconds = 0, remesh_seconds = 0;
+};
+
+struct AdaptResult {
+  SurfaceMesh mesh;   // T_1, compact, with T_0's solution fields interpolated
+  MetricField metric; // the target metric at T_1's vertices
+  std::vector<CycleReport> cycles;
+  bool fixed_point = false;  // the cycles stopped at a fixed point
+  FeatureReport features;    // of T_G
+  std::string surface;       // the name of the surface T_1 lies on
+  double seconds = 0;
+};
+
+// Hooks for progress display; every one may be empty.
+struct AdaptCallbacks {
+  std::function<void(const std::string& step, double seconds)> setup_step;  // a setup step ended
+  std::function<void(const CycleReport&)> cycle_started;  // metric built, T_1 located
+  std::function<void(const PassReport&)> pass;            // after every pass
+  std::function<void(const CycleReport&)> cycle_ended;
+};
+
+// Checks the options without a mesh; throws Error naming the bad value.
+void check_options(const AdaptOptions& options);
+
+// The surface T_1 is kept on, over `tg` (features tagged; outlives it).
+std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKind kind);
+
+// The control space of T_0 with `metric` as the options say (interpolation).
+std::unique_ptr<ControlSpace> make_control(const SurfaceMesh& t0, MetricField metric, bool t0_is_geometry,
+                                           const AdaptOptions& options);
+
+// The whole pipeline; see the top of this file. Throws Error (MetricError,
+// ExpressionError ...) before changing anything on bad options or a metric
+// that cannot be built.
+AdaptResult adapt(AdaptInput input, const AdaptOptions& options, const AdaptCallbacks& callbacks = {});
+
+}  // namespace anisurf::remesh
