@@ -1,0 +1,173 @@
+// The engine's adaptation pipeline (remesh/adapt.h, metric/recipe.h): an
+// in-memory call gives the command line's mesh, vertex targets are met after
+// bounds and gradation, the cycles re-derive the metric and stop at a fixed
+// point, outputs are checked writable before the work.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "io/mesh_io.h"
+#include "metric/surface_metric.h"
+#include "remesh/adapt.h"
+#include "test_geometry_util.h"
+#include "test_util.h"
+
+using namespace anisurf;
+
+namespace {
+
+remesh::AdaptOptions hessian_options(const std::string& f) {
+  remesh::AdaptOptions o;
+  o.metric.source = MetricRecipe::Source::Hessian;
+  o.metric.expression = f;
+  return o;
+}
+
+int inverted_or_degenerate(const SurfaceMesh& m) {
+  int bad = 0;
+  for (int t = 0; t < m.triangle_capacity(); ++t)
+    if (!m.is_deleted(Triangle(t)) && !(m.triangle_normal(Triangle(t)).z > 0)) ++bad;
+  return bad;
+}
+
+}  // namespace
+
+TEST_CASE("adapt pipeline: an in-memory call gives the command line's mesh") {
+  const auto dir = test::temp_dir("adapt_pipeline_same");
+  const std::string in = (dir / "sphere.mesh").string(), out = (dir / "out.mesh").string();
+  save_mesh(in, test::build(test::icosphere(3)));
+  int status = -1;
+  test::capture(std::string(ANISURF_BINARY) + " adapt '" + in + "' --size '0.1 + 0.1 * abs(z)' -v 0 -o '" + out + "'",
+                &status);
+  REQUIRE(status == 0);
+  const SurfaceMesh cli = load_mesh(out);
+
+  remesh::AdaptOptions o;
+  o.metric.source = MetricRecipe::Source::Size;
+  o.metric.expression = "0.1 + 0.1 * abs(z)";
+  const remesh::AdaptResult r = remesh::adapt({load_mesh(in)}, o);
+  REQUIRE(r.mesh.validate().ok());
+  REQUIRE(r.mesh.n_vertices() == cli.n_vertices());
+  REQUIRE(r.mesh.n_triangles() == cli.n_triangles());
+  double worst = 0;
+  for (int v = 0; v < cli.n_vertices(); ++v) worst = std::max(worst, norm(r.mesh.position(Vertex(v)) - cli.position(Vertex(v))));
+  CHECK(worst < 1e-9);  // the file keeps 17 significant digits at most
+  REQUIRE(r.cycles.size() == 1);
+  CHECK(r.cycles[0].final.in_band_share > 0.95);
+  CHECK(r.metric.size() == static_cast<std::size_t>(r.mesh.vertex_capacity()));
+}
+
+TEST_CASE("metric recipe: a vertex target is met after bounds and gradation, and by the adapted mesh") {
+  SurfaceMesh m = test::build(test::square_grid(10));
+  MetricRecipe r;
+  r.source = MetricRecipe::Source::Hessian;
+  r.expression = "100*x^2";
+  r.vertices = 300;
+  r.hgrad = 1.3;
+  const MetricResult built = build_metric(m, r);
+  CHECK(std::abs(predicted_vertices(m, built.metric) - 300) <= 3);
+  CHECK(built.predicted_vertices == doctest::Approx(predicted_vertices(m, built.metric)));
+
+  remesh::AdaptOptions o;
+  o.metric = r;
+  const remesh::AdaptResult a = remesh::adapt({std::move(m)}, o);
+  REQUIRE(a.mesh.validate().ok());
+  CHECK(inverted_or_degenerate(a.mesh) == 0);
+  CHECK(a.mesh.n_vertices() >= 270);
+  CHECK(a.mesh.n_vertices() <= 330);
+}
+
+TEST_CASE("predicted vertices: the boundary term makes the prediction what is produced") {
+  for (double h : {0.1, 0.04}) {
+    CAPTURE(h);
+    remesh::AdaptOptions o;
+    o.metric.source = MetricRecipe::Source::Iso;
+    o.metric.iso = h;
+    const SurfaceMesh grid = test::build(test::square_grid(8));
+    const double predicted = predicted_vertices(grid, MetricField(grid.vertex_capacity(), isotropic_metric(h)));
+    const remesh::AdaptResult a = remesh::adapt({grid}, o);
+    CHECK(std::abs(a.mesh.n_vertices() - predicted) <= 0.1 * predicted);
+  }
+}
+
+TEST_CASE("adapt cycles: the metric is derived again on each output; a fixed point stops them") {
+  remesh::AdaptOptions o = hessian_options("exp(-8*((x-0.5)^2+(y-0.5)^2))");
+  o.metric.error = 0.002;
+  o.metric.hgrad = 0;
+  o.cycles = 8;
+  const remesh::AdaptResult r = remesh::adapt({test::build(test::square_grid(6))}, o);
+  REQUIRE(r.mesh.validate().ok());
+  CHECK(inverted_or_degenerate(r.mesh) == 0);
+  REQUIRE(r.cycles.size() >= 2);
+  for (std::size_t k = 0; k < r.cycles.size(); ++k) {
+    CAPTURE(k);
+    CHECK(r.cycles[k].cycle == static_cast<int>(k) + 1);
+    CHECK(r.cycles[k].final.vertices > 30);
+    CHECK(std::isfinite(r.cycles[k].error_estimate));
+    CHECK(r.cycles[k].error_estimate > 0);
+  }
+  // The first cycle's T_0 is the coarse grid: the next one, derived on the
+  // adapted mesh, sees the function better.
+  CHECK(r.cycles.back().error_estimate < 2 * o.metric.error);
+  if (r.fixed_point) {
+    REQUIRE(r.cycles.size() < 8);
+    const double a = r.cycles[r.cycles.size() - 2].final.vertices, b = r.cycles.back().final.vertices;
+    CHECK(std::abs(b - a) <= o.fixed_point * a);
+  }
+}
+
+TEST_CASE("adapt cycles: a solution field is carried to each new mesh and its Hessian used") {
+  SurfaceMesh m = test::build(test::square_grid(12));
+  Property<FieldValue> f = m.add_field("u", FieldKind::Scalar, 1);
+  for (int v = 0; v < m.vertex_capacity(); ++v) {
+    const Vec3 p = m.position(Vertex(v));
+    f[Vertex(v)][0] = std::sin(3 * p.x) + p.y * p.y;
+  }
+  remesh::AdaptOptions o;
+  o.metric.source = MetricRecipe::Source::HessianField;
+  o.metric.field = "u";
+  o.metric.error = 0.005;
+  o.cycles = 3;
+  const remesh::AdaptResult r = remesh::adapt({std::move(m)}, o);
+  REQUIRE(r.mesh.validate().ok());
+  const Property<FieldValue> u = r.mesh.get_field("u");
+  double worst = 0;
+  for (int v = 0; v < r.mesh.vertex_capacity(); ++v) {
+    const Vec3 p = r.mesh.position(Vertex(v));
+    worst = std::max(worst, std::abs(u[Vertex(v)][0] - (std::sin(3 * p.x) + p.y * p.y)));
+  }
+  // Carried by linear interpolation through the cycles: within the P1
+  // interpolation error of the grid (|f''| h^2 / 8 ~ 9 / 144 / 8 per cycle).
+  CHECK(worst < 0.03);
+  CHECK(r.cycles.size() >= 2);
+}
+
+TEST_CASE("adapt options: refused before any work, the mesh untouched") {
+  remesh::AdaptOptions o = hessian_options("x*x");
+  CHECK_THROWS_AS(remesh::adapt({test::build(test::square_grid(2))}, o), Error);  // no target
+  o.metric.error = 0.01;
+  o.cycles = 0;
+  CHECK_THROWS_AS(remesh::adapt({test::build(test::square_grid(2))}, o), Error);
+  o.cycles = 1;
+  o.metric.source = MetricRecipe::Source::HessianField;
+  o.metric.field = "absent";
+  CHECK_THROWS_WITH_AS(remesh::adapt({test::build(test::square_grid(2))}, o), doctest::Contains("absent"), Error);
+}
+
+TEST_CASE("outputs are checked writable before an adaptation starts") {
+  const auto dir = test::temp_dir("adapt_unwritable");
+  CHECK_THROWS_AS(check_writable(dir.string()), IoError);
+  CHECK_THROWS_AS(check_writable((dir / "missing" / "out.mesh").string()), IoError);
+  CHECK_NOTHROW(check_writable((dir / "out.mesh").string()));
+  CHECK(std::filesystem::is_empty(dir));  // the probe is removed
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/sphere20k.mesh");
+  int status = -1;
+  const std::string text = test::capture(std::string(ANISURF_BINARY) + " adapt '" + mesh + "' --size 0.05 -o '" +
+                                             (dir / "missing" / "out.mesh").string() + "' 2>&1",
+                                         &status);
+  CHECK(status != 0);
+  CHECK(text.find("missing/out.mesh") != std::string::npos);
+}
