@@ -17,6 +17,8 @@
 #include "editor/analysis.h"
 #include "editor/script.h"
 #include "editor/session.h"
+#include "io/mesh_io.h"
+#include "remesh/adapt.h"
 #include "render/bezier_structure.h"
 #include "render/image.h"
 #include "test_util.h"
@@ -455,4 +457,32 @@ TEST_CASE("editor: command lines") {
   // Subcommands still reach the regular command line.
   CHECK(run_binary("", "info " + demo_mesh(), dir) == 0);
 }
+TEST_CASE("editor: a script's run, anisurf adapt and a library call give the same bytes") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
+  const auto dir = test::temp_dir("editor_same_as_cli");
+  {
+    std::ofstream f(dir / "run.anisurf");
+    f << "open " << mesh << " " << sol << "\nrun\nsave " << (dir / "editor.mesh").string() << " "
+      << (dir / "editor.sol").string() << "\n";
+  }
+  REQUIRE(run_binary("env -u DISPLAY", "--script " + (dir / "run.anisurf").string() + " --headless", dir) == 0);
+  int status = -1;
+  test::capture(std::string(ANISURF_BINARY) + " adapt '" + mesh + "' -sol '" + sol + "' -v 0 -o '" +
+                    (dir / "cli.mesh").string() + "'",
+                &status);
+  REQUIRE(status == 0);
+  BuildReport report;
+  remesh::AdaptInput input{load_mesh(mesh, &report)};
+  remesh::AdaptOptions o;
+  o.metric.source = MetricRecipe::Source::Given;
+  SurfaceMesh with_fields = input.mesh;
+  attach_fields(with_fields, read_sol(sol, report.input_vertices), report);
+  o.metric.given = metric_from_field(with_fields);
+  save_mesh((dir / "library.mesh").string(), remesh::adapt(std::move(input), o).mesh);
+  CHECK(slurp(dir / "editor.mesh") == slurp(dir / "cli.mesh"));
+  CHECK(slurp(dir / "editor.sol") == slurp(dir / "cli.sol"));
+  CHECK(slurp(dir / "library.mesh") == slurp(dir / "cli.mesh"));
+}
+
 #endif
