@@ -32,10 +32,7 @@ double length_fraction_parameter(double l0, double l1, double fraction, LengthFo
   return std::clamp(t, 0.0, 1.0);
 }
 
-namespace {
-
-// The space in which a scheme is linear, and back.
-SymTensor3 to_linear_space(const SymTensor3& M, MetricInterpolation how) {
+SymTensor3 to_interpolation_space(const SymTensor3& M, MetricInterpolation how) {
   switch (how) {
     case MetricInterpolation::Linear: return M;
     case MetricInterpolation::Inverse: return inverse(M);
@@ -45,7 +42,7 @@ SymTensor3 to_linear_space(const SymTensor3& M, MetricInterpolation how) {
   return M;
 }
 
-SymTensor3 from_linear_space(const SymTensor3& X, MetricInterpolation how) {
+SymTensor3 from_interpolation_space(const SymTensor3& X, MetricInterpolation how) {
   switch (how) {
     case MetricInterpolation::Linear: return X;
     case MetricInterpolation::Inverse: return inverse(X);
@@ -54,6 +51,8 @@ SymTensor3 from_linear_space(const SymTensor3& X, MetricInterpolation how) {
   }
   return X;
 }
+
+namespace {
 
 double adaptive_simpson(const std::function<double(double)>& f, double a, double b, double fa, double fm, double fb,
                         double whole, double tol, int depth) {
@@ -72,15 +71,15 @@ double adaptive_simpson(const std::function<double(double)>& f, double a, double
 
 SymTensor3 interpolate_metric(const SymTensor3& M0, const SymTensor3& M1, double t, MetricInterpolation how) {
   if (how == MetricInterpolation::Linear) return (1.0 - t) * M0 + t * M1;
-  return from_linear_space((1.0 - t) * to_linear_space(M0, how) + t * to_linear_space(M1, how), how);
+  return from_interpolation_space((1.0 - t) * to_interpolation_space(M0, how) + t * to_interpolation_space(M1, how), how);
 }
 
 SymTensor3 interpolate_metric(const std::array<SymTensor3, 3>& M, const std::array<double, 3>& w,
                               MetricInterpolation how) {
   if (how == MetricInterpolation::Linear) return w[0] * M[0] + w[1] * M[1] + w[2] * M[2];
   SymTensor3 X;
-  for (int i = 0; i < 3; ++i) X += w[i] * to_linear_space(M[i], how);
-  return from_linear_space(X, how);
+  for (int i = 0; i < 3; ++i) X += w[i] * to_interpolation_space(M[i], how);
+  return from_interpolation_space(X, how);
 }
 
 double integrated_length(const std::function<SymTensor3(double)>& metric_at, const Vec3& e, double rel_tol) {
@@ -101,8 +100,8 @@ double integrated_length(const std::function<SymTensor3(double)>& metric_at, con
 
 double integrated_edge_length(const SymTensor3& M0, const SymTensor3& M1, const Vec3& e, MetricInterpolation how,
                               double rel_tol) {
-  const SymTensor3 X0 = to_linear_space(M0, how), X1 = to_linear_space(M1, how);
-  return integrated_length([&](double t) { return from_linear_space((1.0 - t) * X0 + t * X1, how); }, e, rel_tol);
+  const SymTensor3 X0 = to_interpolation_space(M0, how), X1 = to_interpolation_space(M1, how);
+  return integrated_length([&](double t) { return from_interpolation_space((1.0 - t) * X0 + t * X1, how); }, e, rel_tol);
 }
 
 }  // namespace anisurf

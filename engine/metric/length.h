@@ -44,6 +44,12 @@ inline double edge_length(const SymTensor3& M0, const SymTensor3& M1, const Vec3
   return formula == LengthFormula::LinearMetric ? length_linear_metric(l0, l1) : length_linear_size(l0, l1);
 }
 
+// The space in which an interpolation scheme is linear: M (Linear), M^-1
+// (Inverse), M^-1/2 (LinearSize), log M (LogEuclidean); and back. A field
+// interpolated many times (T_0's) is stored there once.
+SymTensor3 to_interpolation_space(const SymTensor3& M, MetricInterpolation how);
+SymTensor3 from_interpolation_space(const SymTensor3& X, MetricInterpolation how);
+
 // Metric at parameter t in [0, 1] between M0 (t = 0) and M1 (t = 1).
 SymTensor3 interpolate_metric(const SymTensor3& M0, const SymTensor3& M1, double t, MetricInterpolation how);
 // Metric at the point of barycentric coordinates w (sum 1) of a triangle

@@ -60,8 +60,10 @@ Projection BezierGeometry::project(const Vec3& x, std::span<const Hint> hints, C
 
 ControlSpace::ControlSpace(const SurfaceMesh& mesh, MetricField metric, bool same_as_geometry,
                            MetricInterpolation interpolation, const std::string& metric_field_name)
-    : mesh_(mesh), target_(std::move(metric)), interpolation_(interpolation) {
+    : mesh_(mesh), interpolation_(interpolation), target_(std::move(metric)) {
   assert(static_cast<int>(target_.size()) >= mesh.vertex_capacity());
+  if (interpolation_ != MetricInterpolation::Linear)
+    for (SymTensor3& M : target_) M = to_interpolation_space(M, interpolation_);
   if (!same_as_geometry) locator_ = std::make_unique<Locator>(mesh);
   for (const FieldInfo& f : mesh.fields()) {
     if (f.name == metric_field_name) continue;
@@ -75,7 +77,7 @@ void ControlSpace::set_relaxation(double t) {
     MetricField().swap(relaxed_);
     return;
   }
-  if (relaxed_.empty()) relaxed_ = target_;
+  if (relaxed_.empty()) relaxed_.assign(target_.size(), SymTensor3::identity());
   if (implied_.empty()) {
     implied_.assign(target_.size(), SymTensor3::identity());
     for (int i = 0; i < mesh_.vertex_capacity(); ++i) {
@@ -93,9 +95,25 @@ void ControlSpace::set_relaxation(double t) {
   for (int i = 0; i < mesh_.vertex_capacity(); ++i) {
     const Vertex v(i);
     if (mesh_.is_deleted(v) || mesh_.is_isolated(v)) continue;
-    relaxed_[i] = tensor_exp((1 - t) * tensor_log(implied_[i]) + t * tensor_log(target_[i]));
+    const SymTensor3 target = from_interpolation_space(target_[i], interpolation_);
+    relaxed_[i] = to_interpolation_space(tensor_exp((1 - t) * tensor_log(implied_[i]) + t * tensor_log(target)),
+                                         interpolation_);
   }
 }
+
+namespace {
+
+MetricField from_space(const MetricField& X, MetricInterpolation how) {
+  MetricField m(X.size());
+  for (std::size_t i = 0; i < m.size(); ++i) m[i] = from_interpolation_space(X[i], how);
+  return m;
+}
+
+}  // namespace
+
+MetricField ControlSpace::metric() const { return from_space(in_use(), interpolation_); }
+
+MetricField ControlSpace::target_metric() const { return from_space(target_, interpolation_); }
 
 Location ControlSpace::locate(const Vec3& x, Hint hint, const Location& on_geometry) {
   if (!locator_) return on_geometry;
@@ -104,9 +122,17 @@ Location ControlSpace::locate(const Vec3& x, Hint hint, const Location& on_geome
 
 SymTensor3 ControlSpace::metric_at(const Location& where) const {
   const Triangle t = where.triangle;
-  const MetricField& m = metric();
-  const std::array<SymTensor3, 3> M = {m[mesh_.vertex(t, 0).idx], m[mesh_.vertex(t, 1).idx], m[mesh_.vertex(t, 2).idx]};
-  return interpolate_metric(M, where.bary, interpolation_);
+  const MetricField& X = in_use();
+  const SymTensor3& X0 = X[mesh_.vertex(t, 0).idx];
+  const SymTensor3& X1 = X[mesh_.vertex(t, 1).idx];
+  const SymTensor3& X2 = X[mesh_.vertex(t, 2).idx];
+  const std::array<double, 3>& w = where.bary;
+  if (interpolation_ == MetricInterpolation::Linear) return w[0] * X0 + w[1] * X1 + w[2] * X2;
+  SymTensor3 sum;
+  sum += w[0] * X0;
+  sum += w[1] * X1;
+  sum += w[2] * X2;
+  return from_interpolation_space(sum, interpolation_);
 }
 
 ControlValues ControlSpace::values_at(const Location& where) const {

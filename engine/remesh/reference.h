@@ -112,9 +112,10 @@ class ControlSpace {
   SymTensor3 metric_at(const Location& where) const;
 
   const SurfaceMesh& mesh() const { return mesh_; }
-  // The metric in use (the target, or a relaxed one: set_relaxation).
-  const MetricField& metric() const { return relaxed_.empty() ? target_ : relaxed_; }
-  const MetricField& target_metric() const { return target_; }
+  // The metric in use (the target, or a relaxed one: set_relaxation) and
+  // the target at T_0's vertex slots, rebuilt from the stored form.
+  MetricField metric() const;
+  MetricField target_metric() const;
 
   // Remark 6: the metric in use becomes the log-Euclidean interpolation
   // exp((1 - t) log M_0 + t log M) between the metric M_0 the mesh T_0
@@ -126,10 +127,14 @@ class ControlSpace {
 
  private:
   const SurfaceMesh& mesh_;
+  // T_0's metrics are stored once, in the space where `interpolation_` is
+  // linear (metric/length.h: M, M^-1, M^-1/2 or log M): a lookup is then one
+  // weighted sum and one conversion back.
+  const MetricField& in_use() const { return relaxed_.empty() ? target_ : relaxed_; }
+  MetricInterpolation interpolation_;
   MetricField target_;
   MetricField relaxed_;  // the metric in use while relaxed (empty otherwise: the target, not copied)
-  MetricField implied_;  // M_0 of set_relaxation, computed on first use
-  MetricInterpolation interpolation_;
+  MetricField implied_;  // M_0 of set_relaxation (a metric), computed on first use
   std::unique_ptr<Locator> locator_;  // null when T_0 is T_G
   std::vector<FieldInfo> infos_;
   std::vector<Property<FieldValue>> fields_;
