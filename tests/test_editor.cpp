@@ -485,4 +485,43 @@ TEST_CASE("editor: a script's run, anisurf adapt and a library call give the sam
   CHECK(slurp(dir / "library.mesh") == slurp(dir / "cli.mesh"));
 }
 
+TEST_CASE("editor: cycles re-derive the metric on the adapted mesh, as anisurf adapt --cycles does") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/square3d.mesh");
+  const auto dir = test::temp_dir("editor_cycles");
+  const std::string f = "100*x^2+exp(-20*(x-0.5)^2-20*(y-0.5)^2)";
+  {
+    std::ofstream s(dir / "cycles.anisurf");
+    s << "open " << mesh << "\nhgrad 0\nmetric hessian " << f << " 0.01\ncycles 3\nsave "
+      << (dir / "editor.mesh").string() << "\n";
+  }
+  REQUIRE(run_binary("env -u DISPLAY", "--script " + (dir / "cycles.anisurf").string() + " --headless", dir) == 0);
+  const std::string log = slurp(dir / "stderr.txt");
+  CHECK(log.find("cycle 2:") != std::string::npos);
+  int status = -1;
+  const std::string out = test::capture(std::string(ANISURF_BINARY) + " adapt '" + mesh + "' --hessian-of '" + f +
+                                            "' --error 0.01 -hgrad -1 --cycles 3 -v 0 -o '" +
+                                            (dir / "cli.mesh").string() + "'",
+                                        &status);
+  REQUIRE(status == 0);
+  CHECK(slurp(dir / "editor.mesh") == slurp(dir / "cli.mesh"));
+
+  // In process: a cycle needs an adapted mesh shown, and makes it T_0.
+  EditorSession s;
+  s.open(mesh);
+  MetricSettings m = s.settings();
+  m.source = MetricSettings::Source::Hessian;
+  m.hessian_expr = f;
+  m.hessian_error = 0.01;
+  s.set_settings(m);
+  CHECK_THROWS_AS(s.next_cycle(), Error);
+  s.run();
+  s.wait();
+  const int adapted = s.timeline().back()->mesh.n_vertices();
+  CHECK(s.next_cycle() == adapted);
+  CHECK(s.cycle() == 1);
+  CHECK(s.input().n_vertices() == adapted);
+  CHECK(s.input().validate().ok());
+  CHECK(s.timeline().size() == 1);  // the new T_0 alone
+}
+
 #endif

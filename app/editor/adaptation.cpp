@@ -22,8 +22,8 @@ SharedGeometry start_geometry(const SurfaceMesh& input, const AdaptSettings& set
 }
 
 Adaptation::Adaptation(const SurfaceMesh& input, MetricField metric, const AdaptSettings& settings,
-                       std::shared_ptr<const Snapshot> initial, SharedGeometry geometry)
-    : input_(input), settings_(settings), geometry_future_(std::move(geometry)), metric_(std::move(metric)) {
+                       std::shared_ptr<const Snapshot> initial, SharedGeometry geometry, bool t0_is_geometry)
+    : input_(input), t0_is_geometry_(t0_is_geometry), settings_(settings), geometry_future_(std::move(geometry)), metric_(std::move(metric)) {
   timeline_.push_back(std::move(initial));
 }
 
@@ -77,7 +77,7 @@ void Adaptation::start(std::size_t from, int max_passes) {
 void Adaptation::rebuild_from(const Snapshot& s) {
   if (!geometry_) {
     geometry_ = geometry_future_.valid() ? geometry_future_.get() : start_geometry(input_, settings_).get();
-    control_ = remesh::make_control(input_, metric_, true, settings_);
+    control_ = remesh::make_control(input_, metric_, t0_is_geometry_, settings_);
   }
   remesher_.reset();
   adapted_.reset();

@@ -47,10 +47,11 @@ SharedGeometry start_geometry(const SurfaceMesh& input, const AdaptSettings& set
 class Adaptation {
  public:
   // T_0 = `input` (features tagged; must outlive the adaptation) with
-  // `metric`, on `geometry` (built over `input`; used by one adaptation at a
-  // time). The timeline starts with `initial` (T_0's snapshot).
+  // `metric`, on `geometry` (built over `input` when t0_is_geometry, else
+  // over the mesh T_0 was adapted from: a later cycle; used by one adaptation
+  // at a time). The timeline starts with `initial` (T_0's snapshot).
   Adaptation(const SurfaceMesh& input, MetricField metric, const AdaptSettings& settings,
-             std::shared_ptr<const Snapshot> initial, SharedGeometry geometry);
+             std::shared_ptr<const Snapshot> initial, SharedGeometry geometry, bool t0_is_geometry = true);
   ~Adaptation();  // stops the worker (after its current pass)
   Adaptation(const Adaptation&) = delete;
   Adaptation& operator=(const Adaptation&) = delete;
@@ -78,6 +79,7 @@ class Adaptation {
   void rebuild_from(const Snapshot& s);
 
   const SurfaceMesh& input_;
+  bool t0_is_geometry_;
   AdaptSettings settings_;
   SharedGeometry geometry_future_;
   std::shared_ptr<remesh::GeometrySurface> geometry_;

@@ -244,6 +244,24 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
   ImGui::EndDisabled();
   ImGui::SameLine();
   if (ImGui::Button("Reset")) s.reset();
+  // Section 7.1's loop: the adapted mesh shown becomes T_0, its metric derived again.
+  ImGui::BeginDisabled(running || !s.has_mesh() || s.timeline().size() < 2);
+  if (ImGui::Button("Next cycle")) {
+    int vertices = 0;
+    act(p, "cycle", [&] { vertices = s.next_cycle(); });
+    if (!p.message_is_error)
+      p.message = "cycle " + std::to_string(s.cycle() + 1) + ": T_0 has " + std::to_string(vertices) +
+                  " vertices, the metric derived again; Run adapts";
+  }
+  ImGui::EndDisabled();
+  if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+    ImGui::SetTooltip("The adapted mesh becomes the input (T_0) and the metric is derived again on it\n"
+                      "(Hessian, size, curvature); a loaded or painted metric is carried over.\n"
+                      "The surface stays the opened mesh's. Then Run adapts again.");
+  if (s.cycle() > 0) {
+    ImGui::SameLine();
+    ImGui::Text("cycle %d", s.cycle() + 1);
+  }
   if (running) {
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(0.1f, 0.5f, 0.1f, 1), "running...");

@@ -1,5 +1,7 @@
 #include "editor/script.h"
 
+#include <cstdio>
+
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -78,6 +80,23 @@ std::string rest_of(const ScriptLine& l, std::size_t skip) {
   const std::size_t a = t.find_first_not_of(" \t", pos);
   const std::size_t b = t.find_last_not_of(" \t");
   return a == std::string::npos ? "" : t.substr(a, b - a + 1);
+}
+
+// `cycles N`: run, then cycle + run until N adaptations or a fixed point.
+void run_cycles(EditorSession& s, int n, const ScriptLine& l) {
+  int previous = -1;
+  for (int k = 1; k <= n; ++k) {
+    if (k > 1) s.next_cycle();
+    s.run();
+    s.wait();
+    if (const std::string err = s.adaptation_error(); !err.empty()) throw LineError{"cycles: " + err};
+    const auto last = s.timeline().back();
+    const int vertices = last->mesh.n_vertices();
+    std::fprintf(stderr, "%s: cycle %d: %d vertices, %d triangles, in band %.1f%%\n", l.where().c_str(), s.cycle() + 1,
+                 vertices, last->mesh.n_triangles(), last->has_report ? 100 * last->report.in_band_share : 0.0);
+    if (previous > 0 && std::abs(vertices - previous) <= 0.02 * previous) break;
+    previous = vertices;
+  }
 }
 
 void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptHost& host) {
@@ -202,6 +221,21 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
       n = static_cast<int>(x);
     }
     s.run(n);
+  } else if (cmd == "cycle" || cmd == "cycles") {
+    // cycle: the displayed mesh becomes T_0, its metric derived again;
+    // cycles N: run, then N - 1 times cycle + run, stopping at a fixed point
+    // (the vertex count within 2% of the previous cycle's), as `anisurf adapt
+    // --cycles N`; one line per cycle on stderr.
+    need_mesh();
+    if (cmd == "cycle") {
+      arity(l, 0, 0, "cycle");
+      s.next_cycle();
+    } else {
+      arity(l, 1, 1, "cycles N");
+      const double x = number(l, 1, "N");
+      if (x < 1 || x != std::floor(x) || x > 1000) throw LineError{"cycles: N must be a whole number in [1, 1000]"};
+      run_cycles(s, static_cast<int>(x), l);
+    }
   } else if (cmd == "reset") {
     arity(l, 0, 0, "reset");
     s.reset();
@@ -309,6 +343,9 @@ const char* script_help() {
          "  stroke begin | stroke end              dabs in between are one edit (one undo)\n"
          "  undo | redo                            metric edits\n"
          "  step | run [MAXPASSES] | reset         adaptation (one pass / until converged)\n"
+         "  cycle | cycles N                       section 7.1's loop: the adapted mesh becomes\n"
+         "                                         T_0 and its metric is derived again (cycles N:\n"
+         "                                         N adaptations, stopping at a fixed point)\n"
          "  lmin L | lmax L                        edge length band (default 0.72, 1.4)\n"
          "  timeline I                             show pass I of the timeline (0: initial)\n"
          "  select-bin length|quality I|worst      highlight a histogram bin (worst: the lowest\n"

@@ -106,6 +106,9 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
   wait_retired();  // their workers read the old mesh
   if (geometry_.valid()) geometry_.wait();  // so does the old geometry's construction
   std::swap(input_, mesh);
+  geometry_mesh_.reset();
+  cycle_ = 0;
+  metric_painted_ = false;
   geometry_ = start_geometry(*input_, adapt_settings_);
   vertex_origin_ = report.vertex_origin;
   mesh_path_ = mesh_path;
@@ -154,6 +157,7 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
 }
 
 MetricRecipe EditorSession::metric_recipe(const MetricSettings& s, MetricField loaded) const {
+  // For a Sol source with `loaded` given, the file is not read.
   using S = MetricRecipe::Source;
   MetricRecipe r;
   r.bounds = {s.hmin, s.hmax, s.max_aniso};
@@ -232,6 +236,7 @@ void EditorSession::set_settings(const MetricSettings& s) {
     e.after.push_back(m[v]);
   }
   base_metric_ = m;
+  metric_painted_ = false;
   undo_.push_back(std::move(e));
   redo_.clear();
   const MetricSettings old = settings_;
@@ -346,6 +351,7 @@ void EditorSession::dab(const Vec3& centre, const Vec3& direction) {
     metric_[v] = M;
   }
   if (!updates.empty()) {
+    metric_painted_ = true;
     retire_adaptation();
     predicted_vertices_ = anisurf::predicted_vertices(mesh, metric_);
     t0_snapshot_ = initial_snapshot();
@@ -423,7 +429,9 @@ void EditorSession::run(int max_passes) {
   if (running()) return;
   poll();
   wait_retired();  // they share the geometry (one search at a time)
-  if (!adaptation_) adaptation_ = std::make_unique<Adaptation>(*input_, metric_, adapt_settings_, t0_snapshot_, geometry_);
+  if (!adaptation_)
+    adaptation_ = std::make_unique<Adaptation>(*input_, metric_, adapt_settings_, t0_snapshot_, geometry_,
+                                               geometry_mesh_ == nullptr);
   const std::size_t n = adaptation_->size();
   const std::size_t from = scrub_ >= 0 && static_cast<std::size_t>(scrub_) < n ? static_cast<std::size_t>(scrub_) : n - 1;
   run_start_ = from + 1;
@@ -431,6 +439,44 @@ void EditorSession::run(int max_passes) {
   adaptation_->start(from, max_passes);
   log(max_passes == 1 ? "step" : max_passes > 0 ? "run " + std::to_string(max_passes) : "run");
   changed();
+}
+
+int EditorSession::next_cycle() {
+  if (!input_) throw Error("no mesh: open one first");
+  if (stroke_) end_stroke();
+  wait();
+  poll();
+  const std::shared_ptr<const Snapshot> shown = display().snapshot;
+  if (!shown || !shown->has_report) throw Error("cycle: adapt first (run), the displayed mesh is T_0");
+  auto t1 = std::make_unique<SurfaceMesh>(shown->mesh);
+  const CompactMap map = t1->compact();
+  MetricField carried(static_cast<std::size_t>(t1->vertex_capacity()));
+  for (int v = 0; v < static_cast<int>(map.vertex.size()); ++v)
+    if (map.vertex[v] >= 0) carried[map.vertex[v]] = shown->metric[v];
+  // The settings' source evaluated on the new T_0, unless the metric comes
+  // from a file of the opened mesh or was painted: then it is carried.
+  MetricRecipe recipe = metric_recipe(settings_, carried);
+  if (settings_.source == MetricSettings::Source::Sol || metric_painted_) {
+    recipe.source = MetricRecipe::Source::Given;
+    recipe.given = std::move(carried);
+  }
+  MetricField m = build_metric(*t1, recipe).metric;
+  retire_adaptation();
+  wait_retired();
+  if (!geometry_mesh_) geometry_mesh_ = std::move(input_);  // geometry_ keeps reading it
+  input_ = std::move(t1);
+  vertex_origin_.clear();  // T_0 is no file's mesh any more
+  ++cycle_;
+  normals_.clear();
+  curvature_.clear();
+  undo_.clear();
+  redo_.clear();
+  selection_ = {};
+  scrub_ = -1;
+  base_metric_ = m;
+  apply_metric(std::move(m), settings_, true);
+  log("cycle");
+  return input_->n_vertices();
 }
 
 void EditorSession::set_band(double lmin, double lmax) {

@@ -132,6 +132,16 @@ class EditorSession {
   // Applies what waited for the worker to be idle (a cancel); call every frame.
   void poll();
   void reset();   // back to T_0 (the timeline is dropped)
+  // Section 7.1's adaptation cycle: the displayed mesh (worker idle) becomes
+  // T_0, its metric derived again from the settings (a Hessian, size or
+  // curvature source is evaluated on it; a .sol or a painted metric is
+  // carried: the displayed snapshot's). T_G stays the opened mesh's surface.
+  // Clears the undo stack; returns the new T_0's vertex count. Throws Error
+  // (no adapted mesh shown, a metric that cannot be built) leaving the
+  // session unchanged.
+  int next_cycle();
+  // Cycles done since open (0: T_0 is the opened mesh).
+  int cycle() const { return cycle_; }
   void wait();
   bool running() const;
   std::vector<std::shared_ptr<const Snapshot>> timeline() const;
@@ -174,6 +184,11 @@ class EditorSession {
   std::shared_ptr<const Snapshot> initial_snapshot() const;
 
   std::unique_ptr<SurfaceMesh> input_;
+  // T_G when T_0 is a cycle's adapted mesh (null while T_0 is T_G itself);
+  // geometry_ is built over it.
+  std::unique_ptr<SurfaceMesh> geometry_mesh_;
+  int cycle_ = 0;
+  bool metric_painted_ = false;  // the metric was painted since the settings computed it
   std::vector<int> vertex_origin_;
   std::string mesh_path_;
   MetricSettings settings_;

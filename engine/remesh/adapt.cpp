@@ -152,19 +152,19 @@ AdaptResult adapt(AdaptInput input, const AdaptOptions& options, const AdaptCall
     remesher.reset();
     adapted.reset();
     control.reset();
+    t1.compact();
     if (recipe.is_hessian())
       report.error_estimate = estimated_interpolation_error(t1, recipe_hessian(t1, recipe), recipe.lp);
     result.cycles.push_back(std::move(report));
     result.fixed_point = is_fixed_point(result.cycles, options.fixed_point);
     if (cb.cycle_ended) cb.cycle_ended(result.cycles.back());
     const bool last = cycle == options.cycles || result.fixed_point;
-    if (last) geometry.reset();  // freed before the output is compacted
+    if (last) geometry.reset();
     recipe = next_recipe(recipe, t1);
     t0 = std::move(t1);
     if (last) break;
     timer.restart();
   }
-  t0.compact();
   result.metric = vertex_metric(t0);
   result.mesh = std::move(t0);
   result.seconds = seconds_since(t_start);
