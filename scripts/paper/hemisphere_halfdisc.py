@@ -38,6 +38,11 @@ Usage:
       64) where z <= 0.2, 1.5625 I elsewhere), DIR/suppress.sol (0.0625 I
       where z <= 0, 0.8 I elsewhere). Tensors in the .sol order m11 m12 m22
       m13 m23 m33.
+  Then, for each metric:
+      build/app/anisurf adapt DIR/T_r.mesh -sol DIR/suppress.sol -o out.mesh -hgrad -1
+      build/app/anisurf quality out.mesh --sol out.sol   (edges in [1/sqrt2, sqrt2])
+  tests/data/paper73_Ti.mesh is this script's T_i (tests/test_remesh_paper73.cpp
+  runs the same chain through the engine).
 
 Standard library only.
 """
