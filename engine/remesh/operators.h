@@ -51,11 +51,11 @@ struct OperatorOptions {
   // curved one until its chords sag by curve_sag * h: on an arc of radius r,
   // segments of the size h when h <= 8 curve_sag r (the polygon turning by
   // up to 8 curve_sag radians per vertex), shorter ones (sqrt(8 curve_sag r
-  // h)) where the metric asks for more. 0.02 (9 degrees per vertex) keeps
+  // h)) where it asks for coarser. 0.02 (9 degrees per vertex) keeps
   // curves within 2e-3 of the diagonal under a curvature metric whose sizes
   // reach diagonal / 10 (tests/test_remesh_shared.cpp); 0.1 lets the metric
   // of the report's section 7.3 coarsen the half-circle crease (radius 6.4,
-  // size 4) to 8 edges (tests/test_remesh_paper73.cpp).
+  // size 4) from 24 to 8 edges (tests/test_remesh_paper73.cpp).
   double curve_sag = 0.02;
   // Turn: the largest angle between a new curve segment and the segment it
   // replaces (section 5.1, "their tangent vectors are quite different"):
