@@ -30,6 +30,14 @@ double cos_deg(double deg) {
 
 Vec3 raw_normal(const Vec3& a, const Vec3& b, const Vec3& c) { return cross(b - a, c - a); }
 
+// Distance from x to the segment a-b.
+double segment_distance(const Vec3& x, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double l2 = norm2(ab);
+  const double t = l2 > 0 ? std::clamp(dot(x - a, ab) / l2, 0.0, 1.0) : 0.0;
+  return norm(x - (a + t * ab));
+}
+
 // The angle thresholds of the options as cosines (computed once per check).
 struct Limits {
   double cos_turn, cos_surface;
@@ -117,13 +125,25 @@ TriangleView view(const AdaptedMesh& m, Triangle t, Vertex moved, Vertex also, c
   return v;
 }
 
-// The straight segment x-w (w a curve vertex) stays within max_curve_sag of
-// its length from the feature curve of the geometry.
-bool curve_sag_ok(AdaptedMesh& m, const Vec3& x, Vertex w, const OperatorOptions& o) {
+// Distance from the midpoint of a new curve segment p-w (w a curve vertex)
+// to the feature curve of T_G (a projection onto the curve).
+double midpoint_off_curve(AdaptedMesh& m, const Vec3& p, Vertex w) {
+  return m.place(0.5 * (p + m.mesh().position(w)), VertexKind::Curve, {w}).distance;
+}
+
+// Section 5.1's tolerance for the sag of a new curve segment p-w:
+// OperatorOptions::curve_sag times the size the metric asks for along the
+// segment (its length over its metric length; infinite for a zero metric
+// length).
+double curve_sag_tolerance(const AdaptedMesh& m, const Placement& p, Vertex w, const OperatorOptions& o) {
   const Vec3 pw = m.mesh().position(w);
-  const Vec3 mid = 0.5 * (x + pw);
-  const Placement at = m.place(mid, VertexKind::Curve, {w});
-  return at.distance <= o.max_curve_sag * norm(pw - x);
+  const double metric_length = m.length(p.position, p.values.metric, pw, m.metric(w));
+  return metric_length > 0 ? o.curve_sag * norm(pw - p.position) / metric_length : INFINITY;
+}
+
+// A move: the new segment p-w stays within the sag tolerance.
+bool curve_sag_ok(AdaptedMesh& m, const Placement& p, Vertex w, const OperatorOptions& o) {
+  return midpoint_off_curve(m, p.position, w) <= curve_sag_tolerance(m, p, w, o);
 }
 
 // Unit direction, or zero.
@@ -285,25 +305,46 @@ namespace {
 
 int rank(VertexKind k) { return k == VertexKind::Free ? 0 : (k == VertexKind::Curve ? 1 : 2); }
 
+// Section 5.1's curve filter for a collapse removing r into k (k taking the
+// placement p when `moves`): each new curve segment, from p to the other
+// curve neighbour o of r (and of k when it moves), replaces the curve
+// through the changed vertex w. Its sag is the larger of its midpoint's
+// distance to the curve of T_G and w's distance to it (w lies on the curve
+// between p and o). Refused when the sag exceeds the tolerance
+// (curve_sag_tolerance), or when the segment turns from the old one (w-o)
+// by more than max_curve_turn_deg where the curve bends (the sag above
+// straight_curve_sag of the segment's length). The cheap tests first.
+Rejection check_curve_collapse(AdaptedMesh& m, Vertex r, Vertex k, const Placement& p, bool moves,
+                               const OperatorOptions& o) {
+  const SurfaceMesh& mesh = m.mesh();
+  const double cos_turn = cos_deg(o.max_curve_turn_deg);
+  for (Vertex w : {r, k}) {
+    if (w == k && !moves) continue;
+    const Vec3 pw = mesh.position(w);
+    for (const FeatureEdgeAt& f : feature_edges_at(mesh, w)) {
+      if (f.other == r || f.other == k) continue;
+      const Vec3 po = mesh.position(f.other);
+      const double straight = o.straight_curve_sag * norm(po - p.position);
+      const bool turns = dot(dir(pw, po), dir(p.position, po)) < cos_turn;
+      const double off = segment_distance(pw, p.position, po);
+      if (turns && off > straight) return Rejection::Tangent;
+      const double sag = std::max(off, midpoint_off_curve(m, p.position, f.other));
+      if (!(sag <= curve_sag_tolerance(m, p, f.other, o))) return Rejection::Tangent;
+      if (turns && sag > straight) return Rejection::Tangent;
+    }
+  }
+  return Rejection::None;
+}
+
 // Checks removing r into k, k taking the placement p. `c` names the edge.
 Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Placement& p, bool moves,
                          VertexKind kind_r, VertexKind kind_k, const OperatorOptions& o,
                          bool topology_checked = false) {
   const SurfaceMesh& mesh = m.mesh();
   if (!topology_checked && !anisurf::can_collapse(mesh, c)) return Rejection::Topology;
-  // Curve vertices: the new curve segments keep the directions of the old ones.
   if (kind_r == VertexKind::Curve || (moves && kind_k == VertexKind::Curve)) {
-    const double lim = cos_deg(o.max_curve_turn_deg);
-    for (Vertex w : {r, k}) {
-      if (w == k && !moves) continue;
-      for (const FeatureEdgeAt& f : feature_edges_at(mesh, w)) {
-        if (f.other == r || f.other == k) continue;
-        const Vec3 old_d = dir(mesh.position(w), mesh.position(f.other));
-        const Vec3 new_d = dir(p.position, mesh.position(f.other));
-        if (dot(old_d, new_d) < lim) return Rejection::Tangent;
-        if (!curve_sag_ok(m, p.position, f.other, o)) return Rejection::Tangent;
-      }
-    }
+    const Rejection why = check_curve_collapse(m, r, k, p, moves, o);
+    if (why != Rejection::None) return why;
   }
   // New triangles: the fans of r and k without the triangles of the edge.
   const Limits lim(o);
@@ -599,7 +640,7 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
     if (last != Rejection::None) continue;
     if (kind == VertexKind::Curve) {
       bool ok = true;
-      for (Vertex w : nbrs) ok = ok && curve_sag_ok(m, at.position, w, o);
+      for (Vertex w : nbrs) ok = ok && curve_sag_ok(m, at, w, o);
       if (!ok) {
         last = Rejection::Tangent;
         continue;

@@ -40,14 +40,33 @@ struct OperatorOptions {
   // Largest angle between a new triangle's normal and the surface normal at
   // each of its free vertices (stored per vertex when it was placed).
   double max_surface_angle_deg = 60.0;
-  // Collapse along a curve: largest angle between the new curve segment and
-  // each of the two segments it replaces (section 5.1, "tangent vectors").
+  // Curve vertices (a collapse or a move along a ridge, boundary or
+  // reference-interface curve, section 5.1): each new curve segment is
+  // compared with the feature curve of T_G it stands for.
+  // Sag: the largest distance of a new segment from that curve (its
+  // midpoint's distance to the curve; for a collapse also the removed
+  // vertex's distance to the segment), relative to the size h the metric
+  // asks for along the segment (its length over its metric length). A
+  // straight curve has no sag and is coarsened as far as the metric asks; a
+  // curved one until its chords sag by curve_sag * h: on an arc of radius r,
+  // segments of the size h when h <= 8 curve_sag r (the polygon turning by
+  // up to 8 curve_sag radians per vertex), shorter ones (sqrt(8 curve_sag r
+  // h)) where it asks for coarser. 0.02 (9 degrees per vertex) keeps
+  // curves within 2e-3 of the diagonal under a curvature metric whose sizes
+  // reach diagonal / 10 (tests/test_remesh_shared.cpp); 0.1 lets the metric
+  // of the report's section 7.3 coarsen the half-circle crease (radius 6.4,
+  // size 4) from 24 to 8 edges (tests/test_remesh_paper73.cpp).
+  double curve_sag = 0.02;
+  // Turn: the largest angle between a new curve segment and the segment it
+  // replaces (section 5.1, "their tangent vectors are quite different"):
+  // keeps a bend of the curve (below the corner angle) from being cut where
+  // the metric is coarse enough for the sag to allow it.
   double max_curve_turn_deg = 25.0;
-  // Largest distance from the midpoint of a new curve segment (collapse or
-  // move of a curve vertex) to the feature curve of T_G, relative to the
-  // segment's length: bounds the chordal error that successive collapses
-  // would otherwise accumulate on curved ridges and boundaries.
-  double max_curve_sag = 0.02;
+  // The turn limit applies where the curve bends over the new segment, not
+  // where the segment's sag stays below this share of its length (there the
+  // curve is straight: a short old segment may point anywhere without the
+  // curve changing).
+  double straight_curve_sag = 0.005;
   // Split: the straight midpoint replaces a refused projection (section 5.3)
   // only when the projection is within this share of the smallest height of
   // the split triangles.
