@@ -70,9 +70,13 @@ const char* kAdaptHelp =
     "                       fixed point (vertex count within --fixed-point, default\n"
     "                       0.02, of the previous cycle's). One line per cycle.\n"
     "  --curve-turn DEG     collapses and moves along feature curves: largest turn\n"
-    "                       between the new and old segments (default 25)\n"
-    "  --curve-sag S        ... and largest sag of a new segment from the curve,\n"
-    "                       relative to its length (default 0.02)\n"
+    "                       between the new and old segments where the curve bends\n"
+    "                       (default 25)\n"
+    "  --curve-sag S        ... and largest distance of a new segment from the G1\n"
+    "                       feature curve, relative to the size the metric asks for\n"
+    "                       along it (default 0.02; a straight curve coarsens freely,\n"
+    "                       an arc of radius r to sizes of 8 S r; 0.1 lets the metric\n"
+    "                       win on the report's 7.3 crease)\n"
     "  --relax N            Remark 6: adapt first to N relaxed metrics between the\n"
     "                       input mesh's sizes and the target (default 0: off)\n"
     "  --report FILE        per-pass report (JSON)\n"
@@ -180,7 +184,7 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
   o.remesh.op.lmin = p.option_double("--lmin", o.remesh.op.lmin);
   o.remesh.op.lmax = p.option_double("--lmax", o.remesh.op.lmax);
   o.remesh.op.max_curve_turn_deg = p.option_double("--curve-turn", o.remesh.op.max_curve_turn_deg);
-  o.remesh.op.max_curve_sag = p.option_double("--curve-sag", o.remesh.op.max_curve_sag);
+  o.remesh.op.curve_sag = p.option_double("--curve-sag", o.remesh.op.curve_sag);
   o.remesh.max_iterations = int_option(p, "--iterations", o.remesh.max_iterations, 1, "a number of rounds >= 1");
   o.remesh.relaxation_stages = int_option(p, "--relax", 0, 0, "a number of stages >= 0");
   o.cycles = int_option(p, "--cycles", 1, 1, "a number of cycles >= 1");
@@ -212,7 +216,7 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
   if (!c.metric.hessian_of_field.empty() && c.interpolate.empty())
     throw UsageError{"--hessian-of-field NAME needs the solution: --interpolate F.sol"};
   if (!(o.remesh.op.lmin > 0) || !(o.remesh.op.lmax > o.remesh.op.lmin)) throw UsageError{"need 0 < lmin < lmax"};
-  if (!(o.remesh.op.max_curve_turn_deg > 0) || !(o.remesh.op.max_curve_sag > 0))
+  if (!(o.remesh.op.max_curve_turn_deg > 0) || !(o.remesh.op.curve_sag > 0))
     throw UsageError{"--curve-turn and --curve-sag expect numbers > 0"};
   if (!(o.fixed_point >= 0)) throw UsageError{"--fixed-point expects a share >= 0"};
   if (length == "log")
