@@ -2,14 +2,20 @@
 // free lists, compact(), properties, validate() catching corruption.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <random>
+#include <ranges>
 
 #include "core/error.h"
+#include "io/mesh_io.h"
 #include "mesh/build.h"
+#include "mesh/operators.h"
 #include "mesh/stats.h"
 #include "mesh/surface_mesh.h"
 #include "test_geometry_util.h"
+#include "test_util.h"
 
 using namespace anisurf;
 
@@ -37,7 +43,116 @@ bool all_up(const SurfaceMesh& m) {
   return true;
 }
 
+// A Moebius strip of 12 quads (24 triangles), one half twist.
+MeshData moebius_strip() {
+  MeshData d;
+  const int n = 12;
+  for (int i = 0; i < n; ++i) {
+    double a = 2 * M_PI * i / n;
+    for (int s = -1; s <= 1; s += 2) {
+      double w = 0.3 * s;
+      d.vertices.push_back({(1 + w * std::cos(a / 2)) * std::cos(a), (1 + w * std::cos(a / 2)) * std::sin(a),
+                            w * std::sin(a / 2)});
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    int a0 = 2 * i, a1 = 2 * i + 1;
+    int b0 = 2 * ((i + 1) % n), b1 = 2 * ((i + 1) % n) + 1;
+    if (i == n - 1) std::swap(b0, b1);  // the half twist
+    d.triangles.push_back({a0, b0, b1});
+    d.triangles.push_back({a0, b1, a1});
+  }
+  return d;
+}
+
+// The fan of v walked with swing_ccw (independent of fan_corners/fan).
+std::vector<Corner> walked_fan(const SurfaceMesh& m, Vertex v) {
+  std::vector<Corner> out;
+  const Corner start = m.corner(v);
+  if (!start.is_valid()) return out;
+  Corner c = start;
+  do {
+    out.push_back(c);
+    c = m.swing_ccw(c);
+  } while (c.is_valid() && c != start && out.size() <= static_cast<std::size_t>(m.corner_capacity()));
+  return out;
+}
+
+// The one-ring of v from walked_fan: next vertex of each fan corner, then the
+// vertex closing an open fan.
+std::vector<Vertex> walked_ring(const SurfaceMesh& m, Vertex v) {
+  std::vector<Vertex> out;
+  const std::vector<Corner> fan = walked_fan(m, v);
+  for (Corner c : fan) out.push_back(m.vertex(SurfaceMesh::next(c)));
+  if (!fan.empty() && m.is_boundary(v)) out.push_back(m.vertex(SurfaceMesh::prev(fan.back())));
+  return out;
+}
+
+template <class Range>
+auto collect(const Range& r) {
+  std::vector<std::ranges::range_value_t<Range>> out;
+  for (auto h : r) out.push_back(h);
+  return out;
+}
+
+// vertices(), triangles() and edges() visit every live element once, in
+// increasing order, and nothing deleted; fan_corners and ring_vertices give
+// the walked fan and ring of every vertex slot (deleted ones: empty).
+void check_ranges_and_circulators(const SurfaceMesh& m) {
+  int n = 0, last = -1;
+  for (Vertex v : m.vertices()) {
+    CHECK_FALSE(m.is_deleted(v));
+    CHECK(v.idx > last);
+    last = v.idx;
+    ++n;
+  }
+  CHECK(n == m.n_vertices());
+  n = 0, last = -1;
+  for (Triangle t : m.triangles()) {
+    CHECK_FALSE(m.is_deleted(t));
+    CHECK(t.idx > last);
+    last = t.idx;
+    ++n;
+  }
+  CHECK(n == m.n_triangles());
+  // edges: each edge of a live triangle exactly once
+  std::vector<int> named(static_cast<std::size_t>(m.corner_capacity()), 0);
+  n = 0, last = -1;
+  for (Corner c : m.edges()) {
+    CHECK_FALSE(m.is_deleted(SurfaceMesh::triangle(c)));
+    CHECK(m.canonical(c) == c);
+    CHECK(c.idx > last);
+    last = c.idx;
+    ++named[c.idx];
+    if (m.opposite(c).is_valid()) ++named[m.opposite(c).idx];
+    ++n;
+  }
+  CHECK(n == compute_stats(m).edges);
+  for (Triangle t : m.triangles())
+    for (int k = 0; k < 3; ++k) CHECK(named[SurfaceMesh::corner(t, k).idx] == 1);
+  // circulators
+  int fan_mismatches = 0, ring_mismatches = 0;
+  for (int i = 0; i < m.vertex_capacity(); ++i) {
+    const Vertex v(i);
+    if (collect(m.fan_corners(v)) != walked_fan(m, v)) ++fan_mismatches;
+    if (collect(m.ring_vertices(v)) != walked_ring(m, v)) ++ring_mismatches;
+    if (m.is_deleted(v)) continue;
+    CHECK(m.fan(v) == walked_fan(m, v));
+    CHECK(one_ring(m, v) == walked_ring(m, v));
+    CHECK(m.fan_corners(v).empty() == m.is_isolated(v));
+    for (Corner c : m.fan_corners(v)) CHECK(m.vertex(c) == v);
+  }
+  CHECK(fan_mismatches == 0);
+  CHECK(ring_mismatches == 0);
+}
+
 }  // namespace
+
+static_assert(std::ranges::forward_range<VertexRange>);
+static_assert(std::ranges::forward_range<TriangleRange>);
+static_assert(std::ranges::forward_range<EdgeRange>);
+static_assert(std::ranges::forward_range<FanCornerRange>);
+static_assert(std::ranges::forward_range<RingVertexRange>);
 
 TEST_CASE("tetrahedron: closed, consistent, Euler 2") {
   SurfaceMesh m;
@@ -152,23 +267,7 @@ TEST_CASE("non-manifold edge is cut, non-manifold vertex is split") {
 }
 
 TEST_CASE("Moebius strip: non-orientable, cut to stay valid") {
-  MeshData d;
-  const int n = 12;
-  for (int i = 0; i < n; ++i) {
-    double a = 2 * M_PI * i / n;
-    for (int s = -1; s <= 1; s += 2) {
-      double w = 0.3 * s;
-      d.vertices.push_back({(1 + w * std::cos(a / 2)) * std::cos(a), (1 + w * std::cos(a / 2)) * std::sin(a),
-                            w * std::sin(a / 2)});
-    }
-  }
-  for (int i = 0; i < n; ++i) {
-    int a0 = 2 * i, a1 = 2 * i + 1;
-    int b0 = 2 * ((i + 1) % n), b1 = 2 * ((i + 1) % n) + 1;
-    if (i == n - 1) std::swap(b0, b1);  // the half twist
-    d.triangles.push_back({a0, b0, b1});
-    d.triangles.push_back({a0, b1, a1});
-  }
+  MeshData d = moebius_strip();
   SurfaceMesh m;
   auto rep = build_mesh(d, m);
   require_valid(m);
@@ -381,4 +480,80 @@ TEST_CASE("random deletions and re-insertions keep the invariants") {
   CHECK(all_up(m));
   m.compact();
   require_valid(m);
+}
+
+TEST_CASE("ranges and circulators: live elements once, fans and rings as walked") {
+  SUBCASE("grid with random deletions (open fans, holes, free slots)") {
+    SurfaceMesh m;
+    build_mesh(grid(8), m);
+    check_ranges_and_circulators(m);
+    std::mt19937 rng(7);
+    int deleted = 0;
+    for (int round = 0; round < 300 && deleted < 25; ++round) {
+      const Triangle t(static_cast<int>(rng() % m.triangle_capacity()));
+      if (m.is_deleted(t)) continue;
+      bool ok = true;  // keep every fan in one piece (as in the test above)
+      for (int k = 0; k < 3; ++k) {
+        const Corner c = SurfaceMesh::corner(t, k);
+        const bool first = !m.swing_cw(c).is_valid(), last = !m.swing_ccw(c).is_valid();
+        if (m.is_boundary(m.vertex(c)) && !first && !last) ok = false;
+      }
+      if (!ok) continue;
+      const Vertex vs[3] = {m.vertex(t, 0), m.vertex(t, 1), m.vertex(t, 2)};
+      m.delete_triangle(t);
+      for (Vertex v : vs)
+        if (m.is_isolated(v)) m.delete_vertex(v);
+      ++deleted;
+    }
+    require_valid(m);
+    REQUIRE(m.has_garbage());
+    check_ranges_and_circulators(m);
+    // an empty range on a mesh without elements
+    SurfaceMesh empty;
+    CHECK(empty.vertices().empty());
+    CHECK(empty.triangles().empty());
+    CHECK(empty.edges().empty());
+  }
+  SUBCASE("non-manifold edge cut, bow tie split, Moebius strip cut") {
+    MeshData three;
+    three.vertices = {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0}, {0.5, 0, 1}};
+    three.triangles = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
+    MeshData bow;
+    bow.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 0}, {-1, -1, 0}};
+    bow.triangles = {{0, 1, 2}, {0, 3, 4}};
+    const MeshData moebius = moebius_strip();
+    for (const MeshData* d : std::initializer_list<const MeshData*>{&three, &bow, &moebius}) {
+      SurfaceMesh m;
+      build_mesh(*d, m);
+      require_valid(m);
+      check_ranges_and_circulators(m);
+    }
+  }
+  SUBCASE("every shared mesh and the benchmark inputs") {
+    const std::string dir = test::shared_file("meshes");
+    if (dir.empty()) {
+      MESSAGE("skipped: ../shared/meshes not found (no shared test data)");
+      return;
+    }
+    std::vector<std::string> paths;
+    for (const auto& e : std::filesystem::directory_iterator(dir)) {
+      const std::string ext = e.path().extension().string();
+      if (ext == ".bin" || ext == ".md") continue;
+      paths.push_back(e.path().string());
+    }
+    for (const char* f : {"bench/inputs/hemi.mesh", "bench/inputs/sphere20k.mesh", "bench/inputs/square3d.mesh"})
+      if (!test::shared_file(f).empty()) paths.push_back(test::shared_file(f));
+    std::sort(paths.begin(), paths.end());
+    for (const std::string& path : paths) {
+      CAPTURE(path);
+      SurfaceMesh m;
+      try {
+        m = load_mesh(path);
+      } catch (const std::exception& ex) {
+        FAIL_CHECK("loading threw: " << ex.what());
+        continue;
+      }
+      check_ranges_and_circulators(m);
+    }
+  }
 }

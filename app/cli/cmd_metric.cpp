@@ -221,9 +221,8 @@ int run_metric(const std::vector<std::string>& args) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   double hmin_out = INFINITY, hmax_out = 0;
-  for (int v = 0; v < mesh.vertex_capacity(); ++v) {
-    if (mesh.is_deleted(Vertex(v))) continue;
-    const SymEigen3 e = eigen_decompose(M[v]);
+  for (Vertex v : mesh.vertices()) {
+    const SymEigen3 e = eigen_decompose(M[v.idx]);
     hmin_out = std::min(hmin_out, 1 / std::sqrt(e.values[2]));
     hmax_out = std::max(hmax_out, 1 / std::sqrt(e.values[0]));
   }

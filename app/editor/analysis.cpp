@@ -48,9 +48,7 @@ Analysis analyze(const SurfaceMesh& mesh, const MetricField& metric) {
   int in_band = 0, good = 0;
   a.length_min = a.quality_min = INFINITY;
   a.length_max = 0;
-  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-    const Triangle T(t);
-    if (mesh.is_deleted(T)) continue;
+  for (Triangle T : mesh.triangles()) {
     std::array<Vec3, 3> p;
     std::array<SymTensor3, 3> M;
     for (int k = 0; k < 3; ++k) {
@@ -59,7 +57,7 @@ Analysis analyze(const SurfaceMesh& mesh, const MetricField& metric) {
       M[k] = metric[v.idx];
     }
     const double q = triangle_quality(p, M, LengthFormula::LinearMetric);
-    a.triangles.push_back(t);
+    a.triangles.push_back(T.idx);
     a.quality.push_back(q);
     ++a.quality_histogram[quality_bin(q)];
     qsum += q;
@@ -123,8 +121,8 @@ Selection select_bin(const SurfaceMesh& mesh, const Analysis& a, BinKind kind, i
       const double badness = l > 0 ? std::abs(std::log(l)) : INFINITY;
       if (badness > worst) worst = badness, s.worst_triangle = t0, s.worst_value = l;
     }
-    for (int t = 0; t < mesh.triangle_capacity(); ++t)
-      if (mark[t]) s.triangles.push_back(t);
+    for (Triangle t : mesh.triangles())
+      if (mark[t.idx]) s.triangles.push_back(t.idx);
   }
   return s;
 }

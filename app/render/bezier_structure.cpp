@@ -70,9 +70,7 @@ SurfaceStructure make_bezier_structure(const SurfaceMesh& mesh, const BezierSurf
   Curves net{"control net", {}, {0.10f, 0.45f, 0.15f}, 1.2f, o.control_net};
   Markers points{"control points", {}, {0.10f, 0.55f, 0.15f}, 2.5f, o.control_net};
   std::vector<glm::vec3> normals;
-  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-    const Triangle T(t);
-    if (mesh.is_deleted(T)) continue;
+  for (Triangle T : mesh.triangles()) {
     const Vec3 v[3] = {mesh.position(mesh.vertex(T, 0)), mesh.position(mesh.vertex(T, 1)),
                        mesh.position(mesh.vertex(T, 2))};
     const auto base = static_cast<std::uint32_t>(g.positions.size());

@@ -139,20 +139,19 @@ MeshStructure make_mesh_structure(const SurfaceMesh& mesh, const std::string& na
   std::vector<int> live;
   out.draw_triangle.assign(static_cast<std::size_t>(mesh.triangle_capacity()), -1);
   out.draw_vertex.assign(static_cast<std::size_t>(mesh.vertex_capacity()), -1);
-  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-    if (mesh.is_deleted(Triangle(t))) continue;
-    out.draw_triangle[t] = static_cast<int>(live.size());
-    live.push_back(t);
+  for (Triangle t : mesh.triangles()) {
+    out.draw_triangle[t.idx] = static_cast<int>(live.size());
+    live.push_back(t.idx);
   }
   // Vertices used by a live triangle, numbered in mesh order.
   std::vector<char> used(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
   for (int t : live)
     for (int k = 0; k < 3; ++k) used[mesh.vertex(Triangle(t), k).idx] = 1;
   std::vector<int> vertex_of_draw;
-  for (int v = 0; v < mesh.vertex_capacity(); ++v)
-    if (used[v]) {
-      out.draw_vertex[v] = static_cast<int>(vertex_of_draw.size());
-      vertex_of_draw.push_back(v);
+  for (Vertex v : mesh.vertices())
+    if (used[v.idx]) {
+      out.draw_vertex[v.idx] = static_cast<int>(vertex_of_draw.size());
+      vertex_of_draw.push_back(v.idx);
     }
   TriangleSet& g = s.geometry;
   for (int v : vertex_of_draw) g.positions.push_back(to_glm(mesh.position(Vertex(v))));

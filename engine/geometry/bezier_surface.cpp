@@ -169,19 +169,13 @@ void BezierSurface::index_mesh(const SurfaceMesh& mesh) {
   for (int v = 0; v < mesh.vertex_capacity(); ++v) vertex_[v] = mesh.position(Vertex(v));
   macro_.assign(nt, Macro{});
   int n_edges = 0;
-  for (int t = 0; t < nt; ++t) {
-    if (mesh.is_deleted(Triangle(t))) continue;
+  for (Corner c : mesh.edges()) macro_[SurfaceMesh::triangle(c).idx].edge[SurfaceMesh::local_index(c)] = n_edges++;
+  for (Triangle t : mesh.triangles()) {
+    Macro& macro = macro_[t.idx];
     for (int k = 0; k < 3; ++k) {
-      const Corner c = SurfaceMesh::corner(Triangle(t), k);
-      if (mesh.canonical(c) == c) macro_[t].edge[k] = n_edges++;
-    }
-  }
-  for (int t = 0; t < nt; ++t) {
-    if (mesh.is_deleted(Triangle(t))) continue;
-    for (int k = 0; k < 3; ++k) {
-      macro_[t].vertex[k] = mesh.vertex(Triangle(t), k).idx;
-      const Corner c = SurfaceMesh::corner(Triangle(t), k), e = mesh.canonical(c);
-      if (e != c) macro_[t].edge[k] = ~macro_[SurfaceMesh::triangle(e).idx].edge[SurfaceMesh::local_index(e)];
+      macro.vertex[k] = mesh.vertex(t, k).idx;
+      const Corner c = SurfaceMesh::corner(t, k), e = mesh.canonical(c);
+      if (e != c) macro.edge[k] = ~macro_[SurfaceMesh::triangle(e).idx].edge[SurfaceMesh::local_index(e)];
     }
   }
   edge_.assign(n_edges, {});
@@ -190,26 +184,22 @@ void BezierSurface::index_mesh(const SurfaceMesh& mesh) {
 // Section 3, step 1: the cubic edge control points, once per edge, in the
 // tangent planes of the end vertices (or along the feature curve tangents).
 void BezierSurface::build_edges(const SurfaceMesh& mesh, const SurfaceFrames& frames, const BezierOptions& options) {
-  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-    if (mesh.is_deleted(Triangle(t))) continue;
-    for (int k = 0; k < 3; ++k) {
-      const Corner e = SurfaceMesh::corner(Triangle(t), k);
-      if (mesh.canonical(e) != e) continue;
-      const Vec3& a = mesh.position(mesh.edge_from(e));
-      const Vec3& b = mesh.position(mesh.edge_to(e));
-      Vec3 da, db;
-      if (is_feature_edge(mesh, e)) {
-        da = frames.tangent_from(e);
-        db = frames.tangent_to(e);
-      } else {
-        const Vec3& na = frames.normal(SurfaceMesh::next(e));
-        const Vec3& nb = frames.normal(SurfaceMesh::prev(e));
-        const Vec3 ab = b - a;
-        da = normalized(ab - dot(ab, na) * na);
-        db = normalized(-ab + dot(ab, nb) * nb);
-      }
-      edge_[macro_[t].edge[k]] = {a + handle(b - a, da, options.handle), b + handle(a - b, db, options.handle)};
+  for (Corner e : mesh.edges()) {
+    const Vec3& a = mesh.position(mesh.edge_from(e));
+    const Vec3& b = mesh.position(mesh.edge_to(e));
+    Vec3 da, db;
+    if (is_feature_edge(mesh, e)) {
+      da = frames.tangent_from(e);
+      db = frames.tangent_to(e);
+    } else {
+      const Vec3& na = frames.normal(SurfaceMesh::next(e));
+      const Vec3& nb = frames.normal(SurfaceMesh::prev(e));
+      const Vec3 ab = b - a;
+      da = normalized(ab - dot(ab, na) * na);
+      db = normalized(-ab + dot(ab, nb) * nb);
     }
+    const int id = macro_[SurfaceMesh::triangle(e).idx].edge[SurfaceMesh::local_index(e)];
+    edge_[id] = {a + handle(b - a, da, options.handle), b + handle(a - b, db, options.handle)};
   }
 }
 
@@ -342,10 +332,10 @@ std::vector<char> BezierSurface::correct_g1(const SurfaceMesh& mesh, const Surfa
   const int nt = mesh.triangle_capacity();
   const double w = options.inner_correction_weight;
   std::vector<char> touched(nt, 0);
-  for (int t = 0; t < nt; ++t) {
-    if (mesh.is_deleted(Triangle(t))) continue;
+  for (Triangle tri : mesh.triangles()) {
+    const int t = tri.idx;
     for (int k1 = 0; k1 < 3; ++k1) {
-      const Corner e = SurfaceMesh::corner(Triangle(t), k1);
+      const Corner e = SurfaceMesh::corner(tri, k1);
       const Corner o = mesh.opposite(e);
       if (!o.is_valid() || o < e || is_feature_edge(mesh, e)) continue;
       const int t2 = SurfaceMesh::triangle(o).idx;

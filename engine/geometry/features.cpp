@@ -38,14 +38,13 @@ double angle_between(const Vec3& a, const Vec3& b) {
 
 std::vector<FeatureEdgeAt> feature_edges_at(const SurfaceMesh& mesh, Vertex v) {
   std::vector<FeatureEdgeAt> out;
-  const std::vector<Corner> fan = mesh.fan(v);
-  if (fan.empty()) return out;
+  const Corner start = mesh.corner(v);
+  if (!start.is_valid()) return out;
   if (mesh.is_boundary(v)) {
     // The fan starts at its most clockwise corner: the edge v -> next is open.
-    const Corner first = SurfaceMesh::prev(fan.front());
-    out.push_back({first, mesh.vertex(SurfaceMesh::next(fan.front()))});
+    out.push_back({SurfaceMesh::prev(start), mesh.vertex(SurfaceMesh::next(start))});
   }
-  for (Corner c : fan) {
+  for (Corner c : mesh.fan_corners(v)) {
     // Edge between c's triangle and the next one counter-clockwise: prev(c) -> v.
     const Corner e = SurfaceMesh::next(c);
     if (is_feature_edge(mesh, e)) out.push_back({e, mesh.vertex(SurfaceMesh::prev(c))});
@@ -60,27 +59,21 @@ FeatureReport detect_features(SurfaceMesh& mesh, const FeatureOptions& options) 
   const double corner_angle = options.corner_angle_deg * std::numbers::pi / 180.0;
 
   // 1. edges: file tags, dihedral angle, reference interfaces
-  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-    const Triangle tri(t);
-    if (mesh.is_deleted(tri)) continue;
-    for (int k = 0; k < 3; ++k) {
-      const Corner c = SurfaceMesh::corner(tri, k);
-      const Corner o = mesh.opposite(c);
-      if (o.is_valid() && o < c) continue;  // each edge once
-      if (!options.keep_file_tags && mesh.has_tag(c, kRidge)) mesh.remove_edge_tag(c, kRidge);
-      if (!o.is_valid()) continue;
-      if (mesh.has_tag(c, kRidge)) continue;
-      const Triangle other = SurfaceMesh::triangle(o);
-      if (options.reference_interfaces && mesh.triangle_ref(tri) != mesh.triangle_ref(other)) {
-        mesh.add_edge_tag(c, kRidge);
-        ++rep.interface_edges;
-        continue;
-      }
-      if (options.detect_ridges &&
-          angle_between(mesh.triangle_normal(tri), mesh.triangle_normal(other)) > ridge_angle) {
-        mesh.add_edge_tag(c, kRidge);
-        ++rep.detected_ridges;
-      }
+  for (Corner c : mesh.edges()) {
+    const Corner o = mesh.opposite(c);
+    if (!options.keep_file_tags && mesh.has_tag(c, kRidge)) mesh.remove_edge_tag(c, kRidge);
+    if (!o.is_valid()) continue;
+    if (mesh.has_tag(c, kRidge)) continue;
+    const Triangle tri = SurfaceMesh::triangle(c), other = SurfaceMesh::triangle(o);
+    if (options.reference_interfaces && mesh.triangle_ref(tri) != mesh.triangle_ref(other)) {
+      mesh.add_edge_tag(c, kRidge);
+      ++rep.interface_edges;
+      continue;
+    }
+    if (options.detect_ridges &&
+        angle_between(mesh.triangle_normal(tri), mesh.triangle_normal(other)) > ridge_angle) {
+      mesh.add_edge_tag(c, kRidge);
+      ++rep.detected_ridges;
     }
   }
   // 2. user edits on edges
@@ -88,9 +81,7 @@ FeatureReport detect_features(SurfaceMesh& mesh, const FeatureOptions& options) 
   for (const auto& e : options.remove_ridges) mesh.remove_edge_tag(edge_of(mesh, e, "remove_ridges"), kRidge);
 
   // 3. vertices: kRidge on ridge vertices, corners
-  for (int v = 0; v < mesh.vertex_capacity(); ++v) {
-    const Vertex vh(v);
-    if (mesh.is_deleted(vh)) continue;
+  for (Vertex vh : mesh.vertices()) {
     mesh.remove_vertex_tag(vh, kRidge);
     if (!options.keep_file_tags) mesh.remove_vertex_tag(vh, kCorner);
     if (mesh.is_isolated(vh)) continue;
@@ -118,18 +109,12 @@ FeatureReport detect_features(SurfaceMesh& mesh, const FeatureOptions& options) 
   }
 
   // 4. counts
-  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-    if (mesh.is_deleted(Triangle(t))) continue;
-    for (int k = 0; k < 3; ++k) {
-      const Corner c = SurfaceMesh::corner(Triangle(t), k);
-      if (mesh.canonical(c) != c) continue;
-      if (mesh.is_boundary_edge(c)) ++rep.boundary_edges;
-      if (is_feature_edge(mesh, c)) ++rep.feature_edges;
-    }
+  for (Corner c : mesh.edges()) {
+    if (mesh.is_boundary_edge(c)) ++rep.boundary_edges;
+    if (is_feature_edge(mesh, c)) ++rep.feature_edges;
   }
-  for (int v = 0; v < mesh.vertex_capacity(); ++v) {
-    const Vertex vh(v);
-    if (mesh.is_deleted(vh) || mesh.is_isolated(vh)) continue;
+  for (Vertex vh : mesh.vertices()) {
+    if (mesh.is_isolated(vh)) continue;
     if (mesh.has_tag(vh, kCorner)) ++rep.corners;
     if (!feature_edges_at(mesh, vh).empty()) ++rep.feature_vertices;
   }

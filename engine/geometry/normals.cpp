@@ -273,10 +273,9 @@ class MirrorMatrix {
   static std::vector<std::vector<int>> sector_neighbours(const SurfaceMesh& mesh, const std::vector<int>& corner_sector,
                                                          const std::vector<int>& first_unknown) {
     std::vector<std::vector<int>> nbrs(first_unknown.size());
-    for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-      if (mesh.is_deleted(Triangle(t))) continue;
+    for (Triangle t : mesh.triangles()) {
       for (int q = 0; q < 3; ++q) {
-        const Corner cv = SurfaceMesh::corner(Triangle(t), q), cw = SurfaceMesh::next(cv);
+        const Corner cv = SurfaceMesh::corner(t, q), cw = SurfaceMesh::next(cv);
         const Vec3 e = mesh.position(mesh.vertex(cw)) - mesh.position(mesh.vertex(cv));
         if (!(norm2(e) > 0)) continue;
         const int sv = corner_sector[cv.idx], sw = corner_sector[cw.idx];
@@ -311,12 +310,14 @@ Vec3 circle_tangent(const Vec3& a, const Vec3& v, const Vec3& b) {
 
 SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& options) {
   SurfaceFrames f;
-  const int nc = 3 * mesh.triangle_capacity();
+  const int nc = mesh.corner_capacity();
   f.corner_sector_.assign(nc, -1);
   f.tangent_slot_.assign(nc, -1);
-  for (int c = 0; c < nc; ++c)
-    if (!mesh.is_deleted(SurfaceMesh::triangle(Corner(c))) && is_feature_edge(mesh, Corner(c))) {
-      f.tangent_slot_[c] = static_cast<int>(f.tangent_.size());
+  for (Triangle t : mesh.triangles())
+    for (int q = 0; q < 3; ++q) {
+      const Corner c = SurfaceMesh::corner(t, q);
+      if (!is_feature_edge(mesh, c)) continue;
+      f.tangent_slot_[c.idx] = static_cast<int>(f.tangent_.size());
       f.tangent_.push_back({Vec3(), Vec3()});
     }
 
@@ -326,14 +327,13 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
   // about the chord (the same circle arc), or takes the chord itself.
   std::vector<Vec3> line(mesh.vertex_capacity());
   std::vector<char> regular(mesh.vertex_capacity(), 0);
-  for (int v = 0; v < mesh.vertex_capacity(); ++v) {
-    const Vertex vh(v);
-    if (mesh.is_deleted(vh) || mesh.is_isolated(vh) || mesh.has_tag(vh, kCorner)) continue;
+  for (Vertex vh : mesh.vertices()) {
+    if (mesh.is_isolated(vh) || mesh.has_tag(vh, kCorner)) continue;
     const auto fe = feature_edges_at(mesh, vh);
     if (fe.size() != 2) continue;
     const Vec3 t = safe_curve_tangent(mesh, vh, fe[0], fe[1], options.tangent_room);
-    regular[v] = 1;
-    line[v] = t;
+    regular[vh.idx] = 1;
+    line[vh.idx] = t;
   }
   auto end_tangent = [&](Vertex a, Vertex b) {
     const Vec3 chord = normalized(mesh.position(b) - mesh.position(a));
@@ -344,20 +344,24 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
     }
     return chord;
   };
-  for (int c = 0; c < nc; ++c) {
-    const Corner e(c);
-    if (mesh.is_deleted(SurfaceMesh::triangle(e)) || !is_feature_edge(mesh, e)) continue;
+  // the two end tangents of the feature edge of corner e
+  auto set_feature_tangents = [&](Corner e) {
     const Vertex a = mesh.edge_from(e), b = mesh.edge_to(e);
     const Corner o = mesh.opposite(e);
     if (o.is_valid() && o < e) {
       // the same curve seen from the other side: reuse it (exactly equal)
-      f.tangent(c, 0) = f.tangent(o.idx, 1);
-      f.tangent(c, 1) = f.tangent(o.idx, 0);
-      continue;
+      f.tangent(e.idx, 0) = f.tangent(o.idx, 1);
+      f.tangent(e.idx, 1) = f.tangent(o.idx, 0);
+      return;
     }
-    f.tangent(c, 0) = end_tangent(a, b);
-    f.tangent(c, 1) = end_tangent(b, a);
-  }
+    f.tangent(e.idx, 0) = end_tangent(a, b);
+    f.tangent(e.idx, 1) = end_tangent(b, a);
+  };
+  for (Triangle t : mesh.triangles())
+    for (int q = 0; q < 3; ++q) {
+      const Corner e = SurfaceMesh::corner(t, q);
+      if (is_feature_edge(mesh, e)) set_feature_tangents(e);
+    }
 
   // 2. sector normals
   auto file_normal = mesh.get_vertex_property<Vec3>("normal");
@@ -370,9 +374,8 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
   std::vector<Vec3> axis, estimate;
   std::vector<std::vector<Corner>> members;
 
-  for (int v = 0; v < mesh.vertex_capacity(); ++v) {
-    const Vertex vh(v);
-    if (mesh.is_deleted(vh) || mesh.is_isolated(vh)) continue;
+  for (Vertex vh : mesh.vertices()) {
+    if (mesh.is_isolated(vh)) continue;
     const auto sectors = sectors_of(mesh, vh);
     for (const auto& sector : sectors) {
       // angle-weighted normal
@@ -409,8 +412,8 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
       // on a regular curve vertex the plane contains the curve tangent; at
       // corners the tangents follow from the sector planes (step 4)
       Vec3 free_axis;
-      if (regular[v]) {
-        free_axis = line[v];
+      if (regular[vh.idx]) {
+        free_axis = line[vh.idx];
         n = normalized(n - dot(n, free_axis) * free_axis);
         ++f.constrained;
       }
@@ -462,10 +465,9 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
       A.clear();
       Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nu);
       std::vector<double> scale(ns, 0.0);
-      for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-        if (mesh.is_deleted(Triangle(t))) continue;
+      for (Triangle t : mesh.triangles()) {
         for (int q = 0; q < 3; ++q) {
-          const Corner cv = SurfaceMesh::corner(Triangle(t), q), cw = SurfaceMesh::next(cv);
+          const Corner cv = SurfaceMesh::corner(t, q), cw = SurfaceMesh::next(cv);
           const Vec3 e = mesh.position(mesh.vertex(cw)) - mesh.position(mesh.vertex(cv));
           const double l2 = norm2(e);
           if (!(l2 > 0)) continue;
@@ -605,9 +607,8 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
   // its estimate onto that plane. Every sector plane then contains the
   // tangents of its bounding curves (proposition 1 holds in every sector).
   const double merge_angle = options.corner_merge_angle_deg * kDeg;
-  for (int v = 0; v < mesh.vertex_capacity(); ++v) {
-    const Vertex vh(v);
-    if (mesh.is_deleted(vh) || mesh.is_isolated(vh) || regular[v]) continue;
+  for (Vertex vh : mesh.vertices()) {
+    if (mesh.is_isolated(vh) || regular[vh.idx]) continue;
     const auto fe = feature_edges_at(mesh, vh);
     if (fe.empty()) continue;
     // the sectors on both sides of each feature edge at v

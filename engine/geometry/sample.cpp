@@ -15,23 +15,20 @@ SurfaceMesh sample_surface(const SurfaceMesh& mesh, const BezierSurface& surface
   d.dimension = 3;
   // 1. original vertices (compact numbering)
   std::vector<int> vid(mesh.vertex_capacity(), -1);
-  for (int v = 0; v < mesh.vertex_capacity(); ++v) {
-    const Vertex vh(v);
-    if (mesh.is_deleted(vh) || mesh.is_isolated(vh)) continue;
-    vid[v] = static_cast<int>(d.vertices.size());
+  for (Vertex vh : mesh.vertices()) {
+    if (mesh.is_isolated(vh)) continue;
+    const int id = static_cast<int>(d.vertices.size());
+    vid[vh.idx] = id;
     d.vertices.push_back(mesh.position(vh));
     d.vertex_refs.push_back(mesh.vertex_ref(vh));
-    if (mesh.has_tag(vh, kCorner)) d.corners.push_back(vid[v]);
-    if (mesh.has_tag(vh, kRequired)) d.required_vertices.push_back(vid[v]);
+    if (mesh.has_tag(vh, kCorner)) d.corners.push_back(id);
+    if (mesh.has_tag(vh, kRequired)) d.required_vertices.push_back(id);
   }
   // 2. points inside edges, once per edge (canonical corner), k - 1 each from
   // edge_from to edge_to
-  const int nc = 3 * mesh.triangle_capacity();
-  std::vector<int> edge_first(nc, -1);
-  for (int c = 0; c < nc; ++c) {
-    const Corner e(c);
-    if (mesh.is_deleted(SurfaceMesh::triangle(e)) || mesh.canonical(e) != e) continue;
-    edge_first[c] = static_cast<int>(d.vertices.size());
+  std::vector<int> edge_first(static_cast<std::size_t>(mesh.corner_capacity()), -1);
+  for (Corner e : mesh.edges()) {
+    edge_first[e.idx] = static_cast<int>(d.vertices.size());
     const Triangle t = SurfaceMesh::triangle(e);
     const int kl = SurfaceMesh::local_index(e), a = (kl + 1) % 3, b = (kl + 2) % 3;
     const std::uint8_t tags = mesh.edge_tags(e);
@@ -67,9 +64,7 @@ SurfaceMesh sample_surface(const SurfaceMesh& mesh, const BezierSurface& surface
     return first_interior + idx + (i - 1);
   };
   // 3. interior points and triangles
-  for (int tt = 0; tt < mesh.triangle_capacity(); ++tt) {
-    const Triangle t(tt);
-    if (mesh.is_deleted(t)) continue;
+  for (Triangle t : mesh.triangles()) {
     const int first_interior = static_cast<int>(d.vertices.size());
     for (int j = 1; j < k; ++j)
       for (int i = 1; i + j < k; ++i) {
@@ -92,14 +87,12 @@ SurfaceMesh sample_surface(const SurfaceMesh& mesh, const BezierSurface& surface
       }
   }
   // 4. tagged edges: every sub-edge of a tagged or referenced edge
-  for (int c = 0; c < nc; ++c) {
-    const Corner e(c);
-    if (edge_first[c] < 0) continue;
+  for (Corner e : mesh.edges()) {
     const std::uint8_t tags = mesh.edge_tags(e);
     if (!(tags & (kListed | kRidge | kRequired)) && mesh.edge_ref(e) == 0) continue;
     int prev = vid[mesh.edge_from(e).idx];
     for (int m = 1; m <= k; ++m) {
-      const int next = m < k ? edge_first[c] + m - 1 : vid[mesh.edge_to(e).idx];
+      const int next = m < k ? edge_first[e.idx] + m - 1 : vid[mesh.edge_to(e).idx];
       const int id = static_cast<int>(d.edges.size());
       d.edges.push_back({prev, next});
       d.edge_refs.push_back(mesh.edge_ref(e));
@@ -115,9 +108,9 @@ SurfaceMesh sample_surface(const SurfaceMesh& mesh, const BezierSurface& surface
   bo.orient = false;
   build_mesh(d, out, bo, "sampled surface");
   // kRidge on the vertices of ridge edges (as detect_features does)
-  for (int t = 0; t < out.triangle_capacity(); ++t)
+  for (Triangle t : out.triangles())
     for (int q = 0; q < 3; ++q) {
-      const Corner c = SurfaceMesh::corner(Triangle(t), q);
+      const Corner c = SurfaceMesh::corner(t, q);
       if (!out.has_tag(c, kRidge)) continue;
       out.add_vertex_tag(out.edge_from(c), kRidge);
       out.add_vertex_tag(out.edge_to(c), kRidge);

@@ -157,9 +157,8 @@ std::vector<FieldData> extract_fields(const SurfaceMesh& mesh) {
     f.info = info;
     const auto nc = static_cast<std::size_t>(info.ncomp);
     f.values.reserve(static_cast<std::size_t>(mesh.n_vertices()) * nc);
-    for (int v = 0; v < mesh.vertex_capacity(); ++v) {
-      if (mesh.is_deleted(Vertex(v))) continue;
-      const FieldValue& value = p.at(v);
+    for (Vertex v : mesh.vertices()) {
+      const FieldValue& value = p[v];
       for (std::size_t c = 0; c < nc; ++c) f.values.push_back(value[c]);
     }
     out.push_back(std::move(f));

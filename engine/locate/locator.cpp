@@ -105,11 +105,11 @@ void Locator::Data::build_triangles() {
   std::vector<BBox> boxes(static_cast<std::size_t>(n_slots));
   std::vector<std::array<int, 2>> pairs;
   pairs.reserve(3 * static_cast<std::size_t>(n_slots));
-  for (int t = 0; t < n_slots; ++t) {
-    if (m.is_deleted(Triangle(t))) continue;
+  for (Triangle th : m.triangles()) {
+    const int t = th.idx;
     Vec3 p[3];
     for (int k = 0; k < 3; ++k) {
-      const Vertex v = m.vertex(Triangle(t), k);
+      const Vertex v = m.vertex(th, k);
       p[k] = m.position(v);
       pairs.push_back({v.idx, t});
     }
@@ -123,9 +123,10 @@ void Locator::Data::build_triangles() {
 
   // Clearance of each vertex: the distance to the nearest triangle not incident to it.
   vclear.assign(static_cast<std::size_t>(m.vertex_capacity()), 0.0);
-  for (int v = 0; v < m.vertex_capacity(); ++v) {
+  for (Vertex vh : m.vertices()) {
+    const int v = vh.idx;
     if (vt_first[v] == vt_first[v + 1]) continue;
-    const Vec3 x = m.position(Vertex(v));
+    const Vec3 x = m.position(vh);
     double best = INFINITY;
     tree.nearest([&](const Vec3& lo, const Vec3& hi) { return box_point_distance2(lo, hi, x); },
                  [&](int t, double) -> double {
@@ -142,25 +143,19 @@ void Locator::Data::build_features() {
   const SurfaceMesh& m = *mesh;
   corner_fe.assign(3 * static_cast<std::size_t>(n_slots), -1);
   std::vector<std::array<int, 2>> pairs;
-  for (int t = 0; t < n_slots; ++t) {
-    if (tv(t)[0] < 0) continue;
-    for (int k = 0; k < 3; ++k) {
-      const Corner c = SurfaceMesh::corner(Triangle(t), k);
-      if (!(m.edge_tags(c) & options.feature_tags)) continue;
-      const Corner canon = m.canonical(c);
-      if (canon != c) continue;  // the other side registers the edge
-      const int e = static_cast<int>(fe_corner.size());
-      fe_corner.push_back(c.idx);
-      const Vertex a = m.edge_from(c), b = m.edge_to(c);
-      fe_v.push_back({a.idx, b.idx});
-      fe_p.push_back(m.position(a));
-      fe_p.push_back(m.position(b));
-      corner_fe[c.idx] = e;
-      const Corner o = m.opposite(c);
-      if (o.is_valid()) corner_fe[o.idx] = e;
-      pairs.push_back({a.idx, e});
-      pairs.push_back({b.idx, e});
-    }
+  for (Corner c : m.edges()) {
+    if (!(m.edge_tags(c) & options.feature_tags)) continue;
+    const int e = static_cast<int>(fe_corner.size());
+    fe_corner.push_back(c.idx);
+    const Vertex a = m.edge_from(c), b = m.edge_to(c);
+    fe_v.push_back({a.idx, b.idx});
+    fe_p.push_back(m.position(a));
+    fe_p.push_back(m.position(b));
+    corner_fe[c.idx] = e;
+    const Corner o = m.opposite(c);
+    if (o.is_valid()) corner_fe[o.idx] = e;
+    pairs.push_back({a.idx, e});
+    pairs.push_back({b.idx, e});
   }
   // no feature curve: no feature query reads the corners' edges (project)
   if (fe_corner.empty()) std::vector<int>().swap(corner_fe);
@@ -173,9 +168,10 @@ void Locator::Data::build_features() {
   // Clearance of each vertex on a feature curve: the distance to the nearest
   // feature edge not incident to it.
   vfclear.assign(static_cast<std::size_t>(m.vertex_capacity()), 0.0);
-  for (int v = 0; v < m.vertex_capacity(); ++v) {
+  for (Vertex vh : m.vertices()) {
+    const int v = vh.idx;
     if (vf_first[v] == vf_first[v + 1]) continue;
-    const Vec3 x = m.position(Vertex(v));
+    const Vec3 x = m.position(vh);
     double best = INFINITY;
     fe_tree.nearest([&](const Vec3& lo, const Vec3& hi) { return box_point_distance2(lo, hi, x); },
                     [&](int e, double) -> double {
@@ -190,11 +186,10 @@ void Locator::Data::build_features() {
 void Locator::Data::build_corners() {
   const SurfaceMesh& m = *mesh;
   std::vector<BBox> boxes;
-  for (int v = 0; v < m.vertex_capacity(); ++v) {
-    const Vertex vh(v);
-    if (m.is_deleted(vh) || m.is_isolated(vh)) continue;
+  for (Vertex vh : m.vertices()) {
+    if (m.is_isolated(vh)) continue;
     if (!(m.vertex_tags(vh) & options.corner_tags)) continue;
-    corners.push_back(v);
+    corners.push_back(vh.idx);
     BBox b;
     b.add(m.position(vh));
     boxes.push_back(b);
@@ -429,31 +424,12 @@ Location Locator::project_corner(const Vec3& x) {
 
 // --- helpers on T_1 -------------------------------------------------------------
 
-namespace {
-
-// Calls f(c) for each corner of the fan of v, counter-clockwise from
-// corner(v) (the whole fan: a boundary vertex starts at its clockwise end).
-template <class F>
-void for_each_fan_corner(const SurfaceMesh& mesh, Vertex v, F&& f) {
-  const Corner start = mesh.corner(v);
-  if (!start.is_valid()) return;
-  Corner c = start;
-  int guard = 0;
-  do {
-    f(c);
-    c = mesh.swing_ccw(c);
-  } while (c.is_valid() && c != start && ++guard < 1 << 20);
-}
-
-}  // namespace
-
 Constraint vertex_constraint(const SurfaceMesh& mesh, Vertex v, std::uint8_t feature_tags, std::uint8_t corner_tags) {
   if (mesh.vertex_tags(v) & corner_tags) return Constraint::Fixed;
   // The two edges at v in each triangle of its fan (a boundary fan's last edge included).
   bool on_feature = false;
-  for_each_fan_corner(mesh, v, [&](Corner c) {
+  for (Corner c : mesh.fan_corners(v))
     on_feature |= ((mesh.edge_tags(SurfaceMesh::next(c)) | mesh.edge_tags(SurfaceMesh::prev(c))) & feature_tags) != 0;
-  });
   return on_feature ? Constraint::OnFeature : Constraint::Free;
 }
 
@@ -466,8 +442,9 @@ std::vector<Location> project_vertices(const SurfaceMesh& mesh, Locator& locator
   PropagationStats st;
   std::deque<int> queue;
   const LocateOptions& o = locator.options();
-  for (int s = 0; s < nv; ++s) {
-    if (mesh.is_deleted(Vertex(s)) || from[s] != -2) continue;
+  for (Vertex seed : mesh.vertices()) {
+    const int s = seed.idx;
+    if (from[s] != -2) continue;
     from[s] = -1;
     ++st.seeds;
     queue.push_back(s);
@@ -483,13 +460,12 @@ std::vector<Location> project_vertices(const SurfaceMesh& mesh, Locator& locator
       ++st.projected;
       st.steps += out[v].steps;
       if (out[v].used_fallback) ++st.fallbacks;
-      for_each_fan_corner(mesh, vh, [&](Corner k) {
+      for (Corner k : mesh.fan_corners(vh))
         for (Vertex w : {mesh.vertex(SurfaceMesh::next(k)), mesh.vertex(SurfaceMesh::prev(k))}) {
           if (from[w.idx] != -2) continue;
           from[w.idx] = v;
           queue.push_back(w.idx);
         }
-      });
     }
   }
   if (stats) *stats = st;

@@ -30,16 +30,16 @@ Vec3 flat(const Vec3& x) { return {x.x, x.y, 0.0}; }
 }  // namespace
 
 bool PlanarLocator::is_planar(const SurfaceMesh& mesh) {
-  for (int v = 0; v < mesh.vertex_capacity(); ++v)
-    if (!mesh.is_deleted(Vertex(v)) && mesh.position(Vertex(v)).z != 0) return false;
+  for (Vertex v : mesh.vertices())
+    if (mesh.position(v).z != 0) return false;
   return true;
 }
 
 PlanarLocator::PlanarLocator(const SurfaceMesh& m, const PlanarLocateOptions& options) {
-  for (int v = 0; v < m.vertex_capacity(); ++v)
-    if (!m.is_deleted(Vertex(v)) && m.position(Vertex(v)).z != 0)
-      throw Error("planar point location: the mesh is not planar (vertex " + std::to_string(v + 1) +
-                  " has z = " + std::to_string(m.position(Vertex(v)).z) + "; expected a 2D mesh or z = 0)");
+  for (Vertex v : m.vertices())
+    if (m.position(v).z != 0)
+      throw Error("planar point location: the mesh is not planar (vertex " + std::to_string(v.idx + 1) +
+                  " has z = " + std::to_string(m.position(v).z) + "; expected a 2D mesh or z = 0)");
   auto d = std::make_shared<Data>();
   d->mesh = &m;
   d->options = options;
@@ -48,11 +48,11 @@ PlanarLocator::PlanarLocator(const SurfaceMesh& m, const PlanarLocateOptions& op
   d->nb.assign(3 * static_cast<std::size_t>(d->n_slots), -1);
   d->orientation.assign(static_cast<std::size_t>(d->n_slots), kDeletedSlot);
   std::vector<BBox> boxes(static_cast<std::size_t>(d->n_slots)), bboxes;
-  for (int t = 0; t < d->n_slots; ++t) {
-    if (m.is_deleted(Triangle(t))) continue;
+  for (Triangle th : m.triangles()) {
+    const int t = th.idx;
     Vec3* p = &d->tp[3 * static_cast<std::size_t>(t)];
     for (int k = 0; k < 3; ++k) {
-      const Corner c = SurfaceMesh::corner(Triangle(t), k);
+      const Corner c = SurfaceMesh::corner(th, k);
       p[k] = m.position(m.vertex(c));
       boxes[t].add(p[k]);
       const Corner o = m.opposite(c);

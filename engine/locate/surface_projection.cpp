@@ -200,7 +200,7 @@ std::vector<Corner> feature_edges_at(const SurfaceMesh& m, Vertex v, std::uint8_
       if (e == k) return;
     out.push_back(k);
   };
-  for (Corner c : m.fan(v)) {
+  for (Corner c : m.fan_corners(v)) {
     add(SurfaceMesh::next(c));
     add(SurfaceMesh::prev(c));
   }

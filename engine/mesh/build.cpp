@@ -361,8 +361,8 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
   // 7. tags, references and attached data (in input numbering; the mesh
   // vertices [0, nv_in) are the file's vertices, later ones are split copies)
   const bool has_vref = d.vertex_refs.size() == d.vertices.size();
-  for (int v = 0; v < mesh.vertex_capacity(); ++v)
-    if (has_vref) mesh.set_vertex_ref(Vertex(v), d.vertex_refs[origin[v]]);
+  for (Vertex v : mesh.vertices())
+    if (has_vref) mesh.set_vertex_ref(v, d.vertex_refs[origin[v.idx]]);
   if (d.triangle_refs.size() == d.triangles.size())
     for (int t = 0; t < nt; ++t) mesh.set_triangle_ref(Triangle(t), d.triangle_refs[tri_origin[t]]);
   // vertex lists: also apply to merged representatives and split copies
@@ -371,7 +371,7 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
   for (int v : d.required_vertices) file_vtags[v] |= kRequired;
   for (int v = 0; v < nv_in; ++v)
     if (rep_of[v] != v) file_vtags[rep_of[v]] |= file_vtags[v];
-  for (int v = 0; v < mesh.vertex_capacity(); ++v) mesh.set_vertex_tags(Vertex(v), file_vtags[origin[v]]);
+  for (Vertex v : mesh.vertices()) mesh.set_vertex_tags(v, file_vtags[origin[v.idx]]);
   {
     std::vector<char> req_tri(d.triangles.size(), 0);
     for (int t : d.required_triangles) req_tri[t] = 1;
@@ -432,22 +432,22 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
   attach_vectors(d.tangents, d.tangent_at_vertex, "tangent", "has_tangent");
   for (const auto& f : d.fields) {
     auto prop = mesh.add_field(f.info.name, f.info.kind, f.info.ncomp);
-    for (int v = 0; v < mesh.vertex_capacity(); ++v) {
-      int o = origin[v];
-      for (int k = 0; k < f.info.ncomp; ++k) prop[Vertex(v)][k] = f.values[static_cast<std::size_t>(o) * f.info.ncomp + k];
+    for (Vertex v : mesh.vertices()) {
+      int o = origin[v.idx];
+      for (int k = 0; k < f.info.ncomp; ++k) prop[v][k] = f.values[static_cast<std::size_t>(o) * f.info.ncomp + k];
     }
   }
 
   // 8. drop unreferenced vertices, renumber compactly
-  for (int v = 0; v < mesh.vertex_capacity(); ++v)
-    if (mesh.is_isolated(Vertex(v))) {
-      if (rep_of[origin[v]] != origin[v])
+  for (Vertex v : mesh.vertices())
+    if (mesh.is_isolated(v)) {
+      if (rep_of[origin[v.idx]] != origin[v.idx])
         ++rep.merged_vertices;
       else if (opt.drop_unreferenced)
         ++rep.unreferenced_vertices;
       else
         continue;
-      mesh.delete_vertex(Vertex(v));
+      mesh.delete_vertex(v);
     }
   CompactMap map = mesh.compact();
   rep.vertex_origin.assign(mesh.vertex_capacity(), -1);
@@ -458,8 +458,8 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
   rep.triangle_origin = tri_origin;
 
   mesh.update_boundary_tags();
-  for (int t = 0; t < mesh.triangle_capacity(); ++t)
-    if (mesh.triangle_area(Triangle(t)) == 0.0) ++rep.zero_area_triangles;
+  for (Triangle t : mesh.triangles())
+    if (mesh.triangle_area(t) == 0.0) ++rep.zero_area_triangles;
   for (const auto& m : rep.repair_messages()) rep.warnings.push_back(source + ": " + m);
   return rep;
 }
@@ -468,18 +468,15 @@ MeshData to_mesh_data(const SurfaceMesh& mesh) {
   MeshData d;
   d.dimension = mesh.dimension();
   std::vector<int> vid(mesh.vertex_capacity(), -1);
-  for (int v = 0; v < mesh.vertex_capacity(); ++v) {
-    Vertex vh(v);
-    if (mesh.is_deleted(vh)) continue;
-    vid[v] = static_cast<int>(d.vertices.size());
+  for (Vertex vh : mesh.vertices()) {
+    const int id = static_cast<int>(d.vertices.size());
+    vid[vh.idx] = id;
     d.vertices.push_back(mesh.position(vh));
     d.vertex_refs.push_back(mesh.vertex_ref(vh));
-    if (mesh.has_tag(vh, kCorner)) d.corners.push_back(vid[v]);
-    if (mesh.has_tag(vh, kRequired)) d.required_vertices.push_back(vid[v]);
+    if (mesh.has_tag(vh, kCorner)) d.corners.push_back(id);
+    if (mesh.has_tag(vh, kRequired)) d.required_vertices.push_back(id);
   }
-  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-    Triangle th(t);
-    if (mesh.is_deleted(th)) continue;
+  for (Triangle th : mesh.triangles()) {
     if (mesh.has_tag(th, kRequired)) d.required_triangles.push_back(static_cast<int>(d.triangles.size()));
     d.triangles.push_back({vid[mesh.vertex(th, 0).idx], vid[mesh.vertex(th, 1).idx], vid[mesh.vertex(th, 2).idx]});
     d.triangle_refs.push_back(mesh.triangle_ref(th));
@@ -500,10 +497,10 @@ MeshData to_mesh_data(const SurfaceMesh& mesh) {
     auto prop = mesh.get_vertex_property<Vec3>(name);
     auto has = mesh.get_vertex_property<std::uint8_t>(flag);
     if (!prop || !has) return;
-    for (int v = 0; v < mesh.vertex_capacity(); ++v)
-      if (vid[v] >= 0 && has[Vertex(v)]) {
-        at.push_back({vid[v], static_cast<int>(vecs.size())});
-        vecs.push_back(prop[Vertex(v)]);
+    for (Vertex v : mesh.vertices())
+      if (has[v]) {
+        at.push_back({vid[v.idx], static_cast<int>(vecs.size())});
+        vecs.push_back(prop[v]);
       }
   };
   export_vectors("normal", "has_normal", d.normals, d.normal_at_vertex);
@@ -513,9 +510,8 @@ MeshData to_mesh_data(const SurfaceMesh& mesh) {
     if (!prop) continue;
     FieldData f{info, {}};
     f.values.reserve(d.vertices.size() * info.ncomp);
-    for (int v = 0; v < mesh.vertex_capacity(); ++v)
-      if (vid[v] >= 0)
-        for (int k = 0; k < info.ncomp; ++k) f.values.push_back(prop[Vertex(v)][k]);
+    for (Vertex v : mesh.vertices())
+      for (int k = 0; k < info.ncomp; ++k) f.values.push_back(prop[v][k]);
     d.fields.push_back(std::move(f));
   }
   return d;

@@ -32,14 +32,47 @@ void link_with(SurfaceMesh& m, Corner a, Corner b, EdgeData d) {
 
 std::uint8_t boundary_free(std::uint8_t t) { return static_cast<std::uint8_t>(t & ~kBoundary); }
 
+// Number of times w appears in the one-ring of v (more than once only next
+// to cut edges).
+int ring_count(const SurfaceMesh& m, Vertex v, Vertex w) {
+  int n = 0;
+  for (Vertex x : m.ring_vertices(v)) n += x == w;
+  return n;
+}
+
+// True if w appears in the one-ring of v before the position `it`.
+bool seen_before(const SurfaceMesh& m, Vertex v, RingVertexIterator it) {
+  const Vertex w = *it;
+  for (auto x = m.ring_vertices(v).begin(); x != it; ++x)
+    if (*x == w) return true;
+  return false;
+}
+
+// Link condition of the edge b-d with opposite vertices a and e (e invalid
+// on a boundary edge): the rings of b and d share exactly `expected`
+// vertices, each a or e. Shared vertices are counted with multiplicity, as
+// the intersection of the two rings sorted as multisets (min of the two
+// counts per vertex).
+bool is_link_condition_ok(const SurfaceMesh& m, Vertex b, Vertex d, Vertex a, Vertex e, int expected) {
+  int shared = 0;
+  const RingVertexRange ring_b = m.ring_vertices(b);
+  for (auto it = ring_b.begin(); it != ring_b.end(); ++it) {
+    const Vertex w = *it;
+    const int in_d = ring_count(m, d, w);
+    if (in_d == 0 || seen_before(m, b, it)) continue;
+    const int k = std::min(in_d, ring_count(m, b, w));
+    if (w != a && w != e) return false;
+    shared += k;
+  }
+  return shared == expected;
+}
+
 }  // namespace
 
 std::vector<Vertex> one_ring(const SurfaceMesh& m, Vertex v) {
   std::vector<Vertex> ring;
-  std::vector<Corner> fan = m.fan(v);
-  ring.reserve(fan.size() + 1);
-  for (Corner c : fan) ring.push_back(m.vertex(M::next(c)));
-  if (!fan.empty() && m.is_boundary(v)) ring.push_back(m.vertex(M::prev(fan.back())));
+  ring.reserve(8);
+  for (Vertex w : m.ring_vertices(v)) ring.push_back(w);
   return ring;
 }
 
@@ -52,7 +85,7 @@ bool can_flip(const SurfaceMesh& m, Corner c) {
   Vertex a = m.vertex(c), e = m.vertex(o);
   if (a == e) return false;
   // the new diagonal a-e must not exist already
-  for (Vertex w : one_ring(m, a))
+  for (Vertex w : m.ring_vertices(a))
     if (w == e) return false;
   return true;
 }
@@ -155,14 +188,7 @@ bool can_collapse(const SurfaceMesh& m, Corner c) {
   const Vertex a = m.vertex(c);
   const Vertex e = boundary_edge ? Vertex() : m.vertex(o);
   // link condition: common neighbours are exactly the opposite vertices
-  std::vector<Vertex> rb = one_ring(m, b), rd = one_ring(m, d);
-  std::sort(rb.begin(), rb.end());
-  std::sort(rd.begin(), rd.end());
-  std::vector<Vertex> common;
-  std::set_intersection(rb.begin(), rb.end(), rd.begin(), rd.end(), std::back_inserter(common));
-  if (common.size() != (boundary_edge ? 1u : 2u)) return false;
-  for (Vertex w : common)
-    if (w != a && w != e) return false;
+  if (!is_link_condition_ok(m, b, d, a, e, boundary_edge ? 1 : 2)) return false;
   // a triangle whose two other edges are on the boundary would dangle
   if (m.is_boundary_edge(M::next(c)) && m.is_boundary_edge(M::prev(c))) return false;
   if (!boundary_edge && m.is_boundary_edge(M::next(o)) && m.is_boundary_edge(M::prev(o))) return false;
@@ -187,7 +213,6 @@ Vertex collapse(SurfaceMesh& m, Corner c) {
     return EdgeData{tags, dx.ref != 0 ? dx.ref : dy.ref};
   };
   const EdgeData dA = merged(c2, c1);
-  const std::vector<Corner> fan_b = m.fan(b);
   const Triangle t0 = M::triangle(c0);
   Triangle t1;
   Vertex e;
@@ -202,7 +227,8 @@ Vertex collapse(SurfaceMesh& m, Corner c) {
     dB = merged(o1, o2);
   }
   // every triangle of b now uses d
-  for (Corner x : fan_b) m.set_corner_vertex(x, d);
+  // (the swing reads the opposite links only, which this loop leaves alone)
+  for (Corner x : m.fan_corners(b)) m.set_corner_vertex(x, d);
   // the two edges on each side become one
   link_with(m, A1, A2, dA);
   if (o.is_valid()) link_with(m, B1, B2, dB);

@@ -37,7 +37,9 @@ bool can_collapse(const SurfaceMesh& mesh, Corner c);
 // first non-zero reference. Returns the kept vertex. Pre: can_collapse.
 Vertex collapse(SurfaceMesh& mesh, Corner c);
 
-// Vertices adjacent to v, counter-clockwise (the last one closes an open fan).
+// Vertices adjacent to v, counter-clockwise (the last one closes an open fan),
+// in a vector: the vertices of mesh.ring_vertices(v), which visits them
+// without allocating.
 std::vector<Vertex> one_ring(const SurfaceMesh& mesh, Vertex v);
 
 }  // namespace anisurf

@@ -22,10 +22,9 @@ int find_root(std::vector<int>& parent, int x) {
 int count_boundary_loops(const SurfaceMesh& m) {
   std::vector<int> out_count(m.vertex_capacity(), 0);
   std::vector<std::pair<int, int>> edges;  // (from, to)
-  for (int t = 0; t < m.triangle_capacity(); ++t) {
-    if (m.is_deleted(Triangle(t))) continue;
+  for (Triangle t : m.triangles()) {
     for (int k = 0; k < 3; ++k) {
-      Corner c = SurfaceMesh::corner(Triangle(t), k);
+      Corner c = SurfaceMesh::corner(t, k);
       if (m.is_boundary_edge(c)) edges.push_back({m.edge_from(c).idx, m.edge_to(c).idx});
     }
   }
@@ -59,9 +58,7 @@ MeshStats compute_stats(const SurfaceMesh& m) {
   s.min_edge = INFINITY;
   s.max_edge = 0;
   s.min_angle_deg = 180;
-  for (int t = 0; t < m.triangle_capacity(); ++t) {
-    Triangle th(t);
-    if (m.is_deleted(th)) continue;
+  for (Triangle th : m.triangles()) {
     s.area += m.triangle_area(th);
     if (m.triangle_ref(th) != 0) trefs.insert(m.triangle_ref(th));
     if (m.has_tag(th, kRequired)) ++s.required_triangles;
@@ -95,13 +92,11 @@ MeshStats compute_stats(const SurfaceMesh& m) {
       if (m.edge_ref(c) != 0) erefs.insert(m.edge_ref(c));
     }
   }
-  for (int v = 0; v < m.vertex_capacity(); ++v) {
-    Vertex vh(v);
-    if (m.is_deleted(vh)) continue;
+  for (Vertex vh : m.vertices()) {
     if (m.has_tag(vh, kCorner)) ++s.corner_vertices;
     if (m.has_tag(vh, kRequired)) ++s.required_vertices;
     if (m.vertex_ref(vh) != 0) vrefs.insert(m.vertex_ref(vh));
-    if (!m.is_isolated(vh) && find_root(parent, v) == v) ++s.components;
+    if (!m.is_isolated(vh) && find_root(parent, vh.idx) == vh.idx) ++s.components;
   }
   s.mean_edge = s.edges ? sum_edge / s.edges : 0;
   if (!s.edges) s.min_edge = 0;

@@ -19,41 +19,21 @@ SurfaceMesh& SurfaceMesh::operator=(const SurfaceMesh&) = default;
 
 // --- navigation ---------------------------------------------------------------
 
-Corner SurfaceMesh::swing_ccw(Corner c) const {
-  // The triangle counter-clockwise of c's triangle around v lies across the
-  // edge (prev(c) -> v), which is the edge opposite next(c).
-  int o = to_[next(c).idx];
-  return o < 0 ? Corner() : next(Corner(o));
-}
-
-Corner SurfaceMesh::swing_cw(Corner c) const {
-  // Across the edge (v -> next(c)), opposite prev(c).
-  int o = to_[prev(c).idx];
-  return o < 0 ? Corner() : prev(Corner(o));
-}
-
-bool SurfaceMesh::is_boundary(Vertex v) const {
-  int c = vcorner_[v.idx];
-  if (c < 0) return false;
-  return to_[prev(Corner(c)).idx] < 0;
-}
-
 std::vector<Corner> SurfaceMesh::fan(Vertex v) const {
   std::vector<Corner> out;
-  Corner start = corner(v);
-  if (!start.is_valid()) return out;
+  if (!corner(v).is_valid()) return out;
   out.reserve(8);  // most fans: no reallocation
-  Corner c = start;
-  do {
-    out.push_back(c);
-    c = swing_ccw(c);
-  } while (c.is_valid() && c != start && out.size() <= tv_.size());
+  for (Corner c : fan_corners(v)) out.push_back(c);
   return out;
 }
 
 int SurfaceMesh::valence(Vertex v) const {
   // Number of distinct neighbours: triangles in the fan, plus one on a boundary.
-  int n = static_cast<int>(fan(v).size());
+  int n = 0;
+  for (Corner c : fan_corners(v)) {
+    (void)c;
+    ++n;
+  }
   return is_boundary(v) ? n + 1 : n;
 }
 
@@ -66,7 +46,7 @@ Corner SurfaceMesh::corner_of(Triangle t, Vertex v) const {
 Corner SurfaceMesh::find_edge(Vertex a, Vertex b) const {
   // The directed edge a->b is opposite prev(c) for the corner c at a whose
   // next vertex is b.
-  for (Corner c : fan(a))
+  for (Corner c : fan_corners(a))
     if (vertex(next(c)) == b) return prev(c);
   return Corner();
 }
@@ -84,8 +64,7 @@ double SurfaceMesh::triangle_area(Triangle t) const { return 0.5 * norm(triangle
 
 BBox SurfaceMesh::bbox() const {
   BBox b;
-  for (int i = 0; i < vertex_capacity(); ++i)
-    if (vcorner_[i] != kDeletedMark) b.add(vpos_[i]);
+  for (Vertex v : vertices()) b.add(position(v));
   return b;
 }
 
@@ -104,12 +83,10 @@ void SurfaceMesh::set_edge_ref(Corner c, int r) {
 }
 
 void SurfaceMesh::update_boundary_tags() {
-  for (int v = 0; v < vertex_capacity(); ++v)
-    if (vcorner_[v] != kDeletedMark) vtag_[v] &= static_cast<std::uint8_t>(~kBoundary);
-  for (int t = 0; t < triangle_capacity(); ++t) {
-    if (tv_[3 * t] < 0) continue;
+  for (Vertex v : vertices()) remove_vertex_tag(v, kBoundary);
+  for (Triangle t : triangles()) {
     for (int k = 0; k < 3; ++k) {
-      int c = 3 * t + k;
+      const int c = corner(t, k).idx;
       if (to_[c] < 0) {
         etag_[c] |= kBoundary;
         vtag_[tv_[next(Corner(c)).idx]] |= kBoundary;

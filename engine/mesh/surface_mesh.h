@@ -12,9 +12,12 @@
 // vertex(next(c)) to vertex(prev(c)). Per-edge data (tags, reference) is stored
 // on both corners of an interior edge and kept equal by the setters.
 #pragma once
+#include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "core/vec3.h"
@@ -76,6 +79,153 @@ struct CompactMap {
   std::vector<int> triangle;
 };
 
+class SurfaceMesh;
+
+// --- ranges and circulators ----------------------------------------------------
+//
+// Light iterators (a mesh pointer and an index or a corner) used in range-for:
+//   for (Vertex v : mesh.vertices()) ...
+//   for (Corner c : mesh.fan_corners(v)) ...
+// They end on a RangeEnd sentinel and allocate nothing.
+
+// Sentinel that ends every range below.
+struct RangeEnd {};
+
+// Iterator over the live slots of one kind of element, in increasing index
+// order: Vertex (live vertices), Triangle (live triangles) or Corner (edges:
+// one corner per edge, the canonical one). Deleted slots are skipped when the
+// iterator reaches them, and the end is read from the mesh at each comparison,
+// so a loop over it visits what `for (i = 0; i < capacity; ++i) if (live(i))`
+// visits, including slots added by the loop body.
+template <class Handle>
+class ElementIterator {
+ public:
+  using value_type = Handle;
+  using difference_type = std::ptrdiff_t;
+  using iterator_concept = std::forward_iterator_tag;
+
+  ElementIterator() = default;
+  // First live slot at or after idx.
+  ElementIterator(const SurfaceMesh* mesh, int idx) : mesh_(mesh), idx_(idx) { skip_dead(); }
+  Handle operator*() const { return Handle(idx_); }
+  ElementIterator& operator++() {
+    ++idx_;
+    skip_dead();
+    return *this;
+  }
+  ElementIterator operator++(int) {
+    ElementIterator before = *this;
+    ++*this;
+    return before;
+  }
+  friend bool operator==(const ElementIterator& a, const ElementIterator& b) { return a.idx_ == b.idx_; }
+  friend bool operator==(const ElementIterator& it, RangeEnd) { return it.idx_ >= it.slot_count(); }
+
+ private:
+  int slot_count() const;  // current number of slots of this kind
+  bool is_live() const;    // slot idx_ holds a live element
+  void skip_dead() {
+    while (idx_ < slot_count() && !is_live()) ++idx_;
+  }
+  const SurfaceMesh* mesh_ = nullptr;
+  int idx_ = 0;
+};
+
+// Circulator over the corners of a vertex fan, counter-clockwise from a start
+// corner; it ends when the swing reaches a boundary (invalid corner) or comes
+// back to the start (see SurfaceMesh::fan_corners).
+class FanCornerIterator {
+ public:
+  using value_type = Corner;
+  using difference_type = std::ptrdiff_t;
+  using iterator_concept = std::forward_iterator_tag;
+
+  FanCornerIterator() = default;
+  FanCornerIterator(const SurfaceMesh* mesh, Corner start) : mesh_(mesh), start_(start), current_(start) {}
+  Corner operator*() const { return current_; }
+  inline FanCornerIterator& operator++();
+  FanCornerIterator operator++(int) {
+    FanCornerIterator before = *this;
+    ++*this;
+    return before;
+  }
+  friend bool operator==(const FanCornerIterator& a, const FanCornerIterator& b) {
+    return a.current_ == b.current_ && a.visited_ == b.visited_;
+  }
+  friend bool operator==(const FanCornerIterator& it, RangeEnd) { return !it.current_.is_valid(); }
+
+ private:
+  const SurfaceMesh* mesh_ = nullptr;
+  Corner start_;
+  Corner current_;            // invalid once the fan is done
+  std::size_t visited_ = 0;   // corners passed so far (guards a corrupt fan)
+};
+
+// Circulator over the one-ring neighbours of a vertex: vertex(next(c)) for
+// each corner c of the fan, then, when the vertex is on a boundary, the
+// vertex closing the open fan, vertex(prev(last corner)) (see
+// SurfaceMesh::ring_vertices).
+class RingVertexIterator {
+ public:
+  using value_type = Vertex;
+  using difference_type = std::ptrdiff_t;
+  using iterator_concept = std::forward_iterator_tag;
+
+  RingVertexIterator() = default;
+  // closes_fan: the fan is open (the vertex is on a boundary), so the ring
+  // ends with the vertex after the last fan corner.
+  RingVertexIterator(const SurfaceMesh* mesh, Corner start, bool closes_fan)
+      : fan_(mesh, start), mesh_(mesh), closes_fan_(closes_fan) {}
+  inline Vertex operator*() const;
+  RingVertexIterator& operator++() {
+    if (at_closing_) {
+      at_closing_ = false;
+      return *this;
+    }
+    last_ = *fan_;
+    ++fan_;
+    at_closing_ = closes_fan_ && fan_ == RangeEnd{};
+    return *this;
+  }
+  RingVertexIterator operator++(int) {
+    RingVertexIterator before = *this;
+    ++*this;
+    return before;
+  }
+  friend bool operator==(const RingVertexIterator& a, const RingVertexIterator& b) {
+    return a.fan_ == b.fan_ && a.at_closing_ == b.at_closing_;
+  }
+  friend bool operator==(const RingVertexIterator& it, RangeEnd) { return it.fan_ == RangeEnd{} && !it.at_closing_; }
+
+ private:
+  FanCornerIterator fan_;
+  const SurfaceMesh* mesh_ = nullptr;
+  Corner last_;               // the fan corner before the closing vertex
+  bool closes_fan_ = false;
+  bool at_closing_ = false;   // yielding the closing vertex of an open fan
+};
+
+// A range for range-for (and std::ranges algorithms): a first iterator and
+// the RangeEnd sentinel.
+template <class Iterator>
+class HandleRange {
+ public:
+  HandleRange() = default;
+  explicit HandleRange(Iterator first) : first_(first) {}
+  Iterator begin() const { return first_; }
+  RangeEnd end() const { return {}; }
+  bool empty() const { return first_ == RangeEnd{}; }
+
+ private:
+  Iterator first_;
+};
+
+using VertexRange = HandleRange<ElementIterator<Vertex>>;
+using TriangleRange = HandleRange<ElementIterator<Triangle>>;
+using EdgeRange = HandleRange<ElementIterator<Corner>>;
+using FanCornerRange = HandleRange<FanCornerIterator>;
+using RingVertexRange = HandleRange<RingVertexIterator>;
+
 class SurfaceMesh {
  public:
   SurfaceMesh();
@@ -88,12 +238,29 @@ class SurfaceMesh {
   // --- sizes -------------------------------------------------------------
   int n_vertices() const { return static_cast<int>(vpos_.size()) - static_cast<int>(free_vertices_.size()); }
   int n_triangles() const { return static_cast<int>(tv_.size() / 3) - static_cast<int>(free_triangles_.size()); }
-  // Allocated slots, including deleted ones (loop bounds for raw iteration).
+  // Allocated slots, including deleted ones: sizes of arrays indexed by slot.
   int vertex_capacity() const { return static_cast<int>(vpos_.size()); }
   int triangle_capacity() const { return static_cast<int>(tv_.size() / 3); }
+  // Corner slots (3 per triangle slot, deleted ones included).
+  int corner_capacity() const { return static_cast<int>(tv_.size()); }
   bool has_garbage() const { return !free_vertices_.empty() || !free_triangles_.empty(); }
   bool is_deleted(Vertex v) const { return vcorner_[v.idx] == kDeletedMark; }
   bool is_deleted(Triangle t) const { return tv_[3 * t.idx] < 0; }
+
+  // --- iteration over live elements (increasing index order) ---------------
+  // Live vertices; cheap to create, allocates nothing.
+  VertexRange vertices() const { return VertexRange(ElementIterator<Vertex>(this, 0)); }
+  // Live triangles.
+  TriangleRange triangles() const { return TriangleRange(ElementIterator<Triangle>(this, 0)); }
+  // Edges of live triangles, each once, named by its canonical corner
+  // (canonical(c) == c: the opposite corner is invalid or has a larger index).
+  EdgeRange edges() const { return EdgeRange(ElementIterator<Corner>(this, 0)); }
+  // True if c is the corner that names its edge in edges(): its triangle is
+  // live and canonical(c) == c.
+  bool is_edge_corner(Corner c) const {
+    return tv_[3 * (c.idx / 3)] >= 0 && (to_[c.idx] < 0 || to_[c.idx] > c.idx);
+  }
+
   // Spatial dimension of the source (2 for planar Medit files, else 3).
   int dimension() const { return dimension_; }
   void set_dimension(int d) { dimension_ = d; }
@@ -122,13 +289,37 @@ class SurfaceMesh {
   Corner corner(Vertex v) const { return Corner(vcorner_[v.idx]); }
   // Corner at the same vertex in the next triangle counter-clockwise / clockwise
   // (invalid when the fan ends on a boundary).
-  Corner swing_ccw(Corner c) const;
-  Corner swing_cw(Corner c) const;
+  Corner swing_ccw(Corner c) const {
+    // The triangle counter-clockwise of c's triangle around v lies across the
+    // edge (prev(c) -> v), which is the edge opposite next(c).
+    const int o = to_[next(c).idx];
+    return o < 0 ? Corner() : next(Corner(o));
+  }
+  Corner swing_cw(Corner c) const {
+    // Across the edge (v -> next(c)), opposite prev(c).
+    const int o = to_[prev(c).idx];
+    return o < 0 ? Corner() : prev(Corner(o));
+  }
   bool is_isolated(Vertex v) const { return vcorner_[v.idx] < 0; }
-  bool is_boundary(Vertex v) const;
+  // True if v's fan is open: the edge clockwise of corner(v) is a boundary.
+  bool is_boundary(Vertex v) const {
+    const int c = vcorner_[v.idx];
+    return c >= 0 && to_[prev(Corner(c)).idx] < 0;
+  }
   int valence(Vertex v) const;
-  // Corners of the fan of v, counter-clockwise from corner(v).
+  // Corners of the fan of v, counter-clockwise from corner(v), in a vector
+  // (fan_corners(v) visits the same corners without allocating).
   std::vector<Corner> fan(Vertex v) const;
+  // Circulator over the corners of the fan of v, counter-clockwise from
+  // corner(v): the corners of fan(v), in the same order. An open fan ends at
+  // the boundary; empty for an isolated or deleted vertex.
+  FanCornerRange fan_corners(Vertex v) const { return FanCornerRange(FanCornerIterator(this, corner(v))); }
+  // Circulator over the neighbours of v, counter-clockwise: vertex(next(c))
+  // for each corner c of fan_corners(v), then, when v is on a boundary, the
+  // vertex closing the open fan (the same vertices as one_ring(mesh, v)).
+  RingVertexRange ring_vertices(Vertex v) const {
+    return RingVertexRange(RingVertexIterator(this, corner(v), is_boundary(v)));
+  }
   // Corner c in triangle t whose vertex is v (invalid if v is not in t).
   Corner corner_of(Triangle t, Vertex v) const;
   // Corner whose opposite edge is the directed edge a->b, searched in the fan of a.
@@ -266,5 +457,34 @@ class SurfaceMesh {
   std::vector<FieldInfo> fields_;
   int dimension_ = 3;
 };
+
+// --- inline definitions of the iterators (need the complete SurfaceMesh) -----
+
+template <class Handle>
+int ElementIterator<Handle>::slot_count() const {
+  if constexpr (std::is_same_v<Handle, Vertex>) return mesh_->vertex_capacity();
+  else if constexpr (std::is_same_v<Handle, Triangle>) return mesh_->triangle_capacity();
+  else return mesh_->corner_capacity();
+}
+
+template <class Handle>
+bool ElementIterator<Handle>::is_live() const {
+  if constexpr (std::is_same_v<Handle, Corner>) return mesh_->is_edge_corner(Corner(idx_));
+  else return !mesh_->is_deleted(Handle(idx_));
+}
+
+inline FanCornerIterator& FanCornerIterator::operator++() {
+  // Stops at a boundary, back at the start, or after more corners than the
+  // mesh has (a corrupt fan).
+  ++visited_;
+  const Corner n = mesh_->swing_ccw(current_);
+  const bool more = n.is_valid() && n != start_ && visited_ <= static_cast<std::size_t>(mesh_->corner_capacity());
+  current_ = more ? n : Corner();
+  return *this;
+}
+
+inline Vertex RingVertexIterator::operator*() const {
+  return at_closing_ ? mesh_->vertex(SurfaceMesh::prev(last_)) : mesh_->vertex(SurfaceMesh::next(*fan_));
+}
 
 }  // namespace anisurf

@@ -44,9 +44,9 @@ std::string describe_vertex(const SurfaceMesh& mesh, int v, const std::vector<in
 template <class Use>
 void for_each_vertex_value(const SurfaceMesh& mesh, const Expression& e, const std::vector<int>& vertex_origin,
                            Use use) {
-  for (int i = 0; i < mesh.vertex_capacity(); ++i) {
-    if (mesh.is_deleted(Vertex(i))) continue;
-    const std::vector<double> r = e.evaluate(mesh.position(Vertex(i)));
+  for (Vertex v : mesh.vertices()) {
+    const int i = v.idx;
+    const std::vector<double> r = e.evaluate(mesh.position(v));
     for (std::size_t k = 0; k < r.size(); ++k)
       if (!std::isfinite(r[k]))
         throw ExpressionError("the expression '" + e.text() + "'" +
@@ -119,8 +119,8 @@ MetricField metric_from_size_expression(const SurfaceMesh& mesh, const std::stri
                                         const std::vector<int>& vertex_origin) {
   const std::vector<double> h = evaluate_at_vertices(mesh, expression, vertex_origin);
   MetricField M(mesh.vertex_capacity(), SymTensor3::identity());
-  for (int i = 0; i < mesh.vertex_capacity(); ++i) {
-    if (mesh.is_deleted(Vertex(i))) continue;
+  for (Vertex v : mesh.vertices()) {
+    const int i = v.idx;
     if (!(h[i] > 0))
       throw ExpressionError("the size '" + expression + "' is " + std::to_string(h[i]) + " at " +
                             describe_vertex(mesh, i, vertex_origin) + ", expected h > 0");

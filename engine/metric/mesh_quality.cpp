@@ -13,31 +13,25 @@ MeshQuality measure_mesh_quality(const SurfaceMesh& mesh, const MetricField& met
   q.vertices = mesh.n_vertices();
   q.triangles = mesh.n_triangles();
   // Edge lengths, stored per corner so that triangles reuse them.
-  std::vector<double> corner_length(3 * static_cast<std::size_t>(mesh.triangle_capacity()), 0.0);
+  std::vector<double> corner_length(static_cast<std::size_t>(mesh.corner_capacity()), 0.0);
   const double lo = 1.0 / std::sqrt(2.0), hi = std::sqrt(2.0);
   double sum = 0;
   int in_band = 0;
   q.length_min = INFINITY;
   q.length_max = 0;
-  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-    if (mesh.is_deleted(Triangle(t))) continue;
-    for (int k = 0; k < 3; ++k) {
-      const Corner c = SurfaceMesh::corner(Triangle(t), k);
-      const Corner canon = mesh.canonical(c);
-      if (canon != c) continue;  // measured from its canonical corner
-      const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
-      const double l = edge_length(metric[a.idx], metric[b.idx], mesh.position(b) - mesh.position(a), options.length);
-      corner_length[c.idx] = l;
-      const Corner o = mesh.opposite(c);
-      if (o.is_valid()) corner_length[o.idx] = l;
-      ++q.edges;
-      sum += l;
-      q.length_min = std::min(q.length_min, l);
-      q.length_max = std::max(q.length_max, l);
-      if (l >= lo && l <= hi) ++in_band;
-      const auto bin = std::upper_bound(kLengthBins.begin(), kLengthBins.end(), l) - kLengthBins.begin();
-      ++q.histogram[std::min<std::size_t>(bin, kLengthBins.size() - 1)];
-    }
+  for (Corner c : mesh.edges()) {  // each edge from its canonical corner
+    const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
+    const double l = edge_length(metric[a.idx], metric[b.idx], mesh.position(b) - mesh.position(a), options.length);
+    corner_length[c.idx] = l;
+    const Corner o = mesh.opposite(c);
+    if (o.is_valid()) corner_length[o.idx] = l;
+    ++q.edges;
+    sum += l;
+    q.length_min = std::min(q.length_min, l);
+    q.length_max = std::max(q.length_max, l);
+    if (l >= lo && l <= hi) ++in_band;
+    const auto bin = std::upper_bound(kLengthBins.begin(), kLengthBins.end(), l) - kLengthBins.begin();
+    ++q.histogram[std::min<std::size_t>(bin, kLengthBins.size() - 1)];
   }
   if (q.edges) {
     q.length_mean = sum / q.edges;
@@ -47,10 +41,10 @@ MeshQuality measure_mesh_quality(const SurfaceMesh& mesh, const MetricField& met
   }
   double qs = 0, qcs = 0, mrs = 0;
   q.q_min = q.qc_min = q.mean_ratio_min = q.triangles ? INFINITY : 0.0;
-  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-    if (mesh.is_deleted(Triangle(t))) continue;
-    const Triangle tr(t);
-    const std::array<double, 3> l = {corner_length[3 * t], corner_length[3 * t + 1], corner_length[3 * t + 2]};
+  for (Triangle tr : mesh.triangles()) {
+    const std::array<double, 3> l = {corner_length[SurfaceMesh::corner(tr, 0).idx],
+                                     corner_length[SurfaceMesh::corner(tr, 1).idx],
+                                     corner_length[SurfaceMesh::corner(tr, 2).idx]};
     const double qk = quality_from_lengths(l[0], l[1], l[2]);
     const std::array<Vec3, 3> p = {mesh.position(mesh.vertex(tr, 0)), mesh.position(mesh.vertex(tr, 1)),
                                    mesh.position(mesh.vertex(tr, 2))};

@@ -32,8 +32,8 @@ MetricField metric_from_field(const SurfaceMesh& mesh, const std::string& name,
     throw MetricError("field '" + chosen->name + "' is neither a size (1 scalar) nor a metric (3 or 6 tensor components)");
   const Property<FieldValue> p = mesh.get_field(chosen->name);
   MetricField metric(mesh.vertex_capacity(), SymTensor3::identity());
-  for (int i = 0; i < mesh.vertex_capacity(); ++i) {
-    if (mesh.is_deleted(Vertex(i))) continue;
+  for (Vertex v : mesh.vertices()) {
+    const int i = v.idx;
     const FieldValue& f = p.at(i);
     if (!tensor) {
       const double h = f[0];
@@ -55,8 +55,7 @@ void check_metric_field(const SurfaceMesh& mesh, const MetricField& metric, cons
   if (static_cast<int>(metric.size()) != mesh.vertex_capacity())
     throw MetricError("metric field has " + std::to_string(metric.size()) + " entries for " +
                       std::to_string(mesh.vertex_capacity()) + " vertex slots");
-  for (int i = 0; i < mesh.vertex_capacity(); ++i)
-    if (!mesh.is_deleted(Vertex(i))) check_metric(metric[i], file_index(i, vertex_origin));
+  for (Vertex v : mesh.vertices()) check_metric(metric[v.idx], file_index(v.idx, vertex_origin));
 }
 
 void set_metric_field(SurfaceMesh& mesh, const MetricField& metric, const std::string& name) {
@@ -68,21 +67,13 @@ void set_metric_field(SurfaceMesh& mesh, const MetricField& metric, const std::s
 std::vector<std::array<int, 2>> mesh_edges(const SurfaceMesh& mesh) {
   std::vector<std::array<int, 2>> edges;
   edges.reserve(static_cast<std::size_t>(mesh.n_triangles()) * 3 / 2 + 16);
-  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-    if (mesh.is_deleted(Triangle(t))) continue;
-    for (int k = 0; k < 3; ++k) {
-      const Corner c = SurfaceMesh::corner(Triangle(t), k);
-      if (mesh.canonical(c) != c) continue;
-      edges.push_back({mesh.edge_from(c).idx, mesh.edge_to(c).idx});
-    }
-  }
+  for (Corner c : mesh.edges()) edges.push_back({mesh.edge_from(c).idx, mesh.edge_to(c).idx});
   return edges;
 }
 
 std::vector<Vec3> vertex_positions(const SurfaceMesh& mesh) {
   std::vector<Vec3> pos(mesh.vertex_capacity());
-  for (int i = 0; i < mesh.vertex_capacity(); ++i)
-    if (!mesh.is_deleted(Vertex(i))) pos[i] = mesh.position(Vertex(i));
+  for (Vertex v : mesh.vertices()) pos[v.idx] = mesh.position(v);
   return pos;
 }
 
@@ -91,8 +82,7 @@ GradationReport gradate_metric(const SurfaceMesh& mesh, MetricField& metric, con
 }
 
 void clamp_metric_field(const SurfaceMesh& mesh, MetricField& metric, const MetricBounds& bounds) {
-  for (int i = 0; i < mesh.vertex_capacity(); ++i)
-    if (!mesh.is_deleted(Vertex(i))) metric[i] = clamp_metric(metric[i], bounds);
+  for (Vertex v : mesh.vertices()) metric[v.idx] = clamp_metric(metric[v.idx], bounds);
 }
 
 }  // namespace anisurf

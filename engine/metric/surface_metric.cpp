@@ -38,10 +38,9 @@ SymTensor3 extend_from_tangent(const SymTensor2& T, const Vec3& t1, const Vec3& 
 
 std::vector<Vec3> vertex_normals(const SurfaceMesh& mesh) {
   std::vector<Vec3> n(mesh.vertex_capacity());
-  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-    if (mesh.is_deleted(Triangle(t))) continue;
-    const Vec3 tn = mesh.triangle_normal(Triangle(t));  // twice the area
-    for (int k = 0; k < 3; ++k) n[mesh.vertex(Triangle(t), k).idx] += tn;
+  for (Triangle t : mesh.triangles()) {
+    const Vec3 tn = mesh.triangle_normal(t);  // twice the area
+    for (int k = 0; k < 3; ++k) n[mesh.vertex(t, k).idx] += tn;
   }
   for (Vec3& v : n) v = normalized(v);
   return n;
@@ -49,15 +48,14 @@ std::vector<Vec3> vertex_normals(const SurfaceMesh& mesh) {
 
 double metric_complexity(const SurfaceMesh& mesh, const MetricField& metric) {
   double c = 0;
-  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-    if (mesh.is_deleted(Triangle(t))) continue;
-    const Vec3 tn = mesh.triangle_normal(Triangle(t));
+  for (Triangle t : mesh.triangles()) {
+    const Vec3 tn = mesh.triangle_normal(t);
     const double area2 = norm(tn);
     if (!(area2 > 0)) continue;
     const auto frame = tangent_frame(tn / area2);
     double s = 0;
     for (int k = 0; k < 3; ++k)
-      s += std::sqrt(std::fmax(det(restrict_to_tangent(metric[mesh.vertex(Triangle(t), k).idx], frame[0], frame[1])), 0.0));
+      s += std::sqrt(std::fmax(det(restrict_to_tangent(metric[mesh.vertex(t, k).idx], frame[0], frame[1])), 0.0));
     c += 0.5 * area2 * s / 3.0;
   }
   return c;

@@ -42,23 +42,22 @@ AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, Control
   // Positions are kept (T_1 starts on the geometry) unless project_initial.
   std::vector<char> seen(static_cast<std::size_t>(mesh_.vertex_capacity()), 0);
   std::deque<Vertex> queue;
-  for (int s = 0; s < mesh_.vertex_capacity(); ++s) {
-    const Vertex seed(s);
-    if (mesh_.is_deleted(seed) || mesh_.is_isolated(seed) || seen[s]) continue;
-    seen[s] = 1;
+  for (Vertex seed : mesh_.vertices()) {
+    if (mesh_.is_isolated(seed) || seen[seed.idx]) continue;
+    seen[seed.idx] = 1;
     queue.push_back(seed);
     while (!queue.empty()) {
       const Vertex v = queue.front();
       queue.pop_front();
       std::vector<Vertex> near;
-      for (Vertex w : one_ring(mesh_, v))
+      for (Vertex w : mesh_.ring_vertices(v))
         if (seen[w.idx] == 2) near.push_back(w);
       const Vec3 x = mesh_.position(v);
       Placement p = place(x, kind(v), near);
       if (!project_initial) p.position = x;
       commit(v, p);
       seen[v.idx] = 2;
-      for (Vertex w : one_ring(mesh_, v))
+      for (Vertex w : mesh_.ring_vertices(v))
         if (!seen[w.idx]) {
           seen[w.idx] = 1;
           queue.push_back(w);
@@ -116,9 +115,8 @@ Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, const std::vector<V
 }
 
 void AdaptedMesh::refresh_values() {
-  for (int i = 0; i < mesh_.vertex_capacity(); ++i) {
-    const Vertex v(i);
-    if (mesh_.is_deleted(v) || mesh_.is_isolated(v)) continue;
+  for (Vertex v : mesh_.vertices()) {
+    if (mesh_.is_isolated(v)) continue;
     // Located again (as a fixed point: the position does not change).
     const Placement p = place(mesh_.position(v), VertexKind::Fixed, {v});
     metric_[v] = p.values.metric;
@@ -170,10 +168,8 @@ double AdaptedMesh::quality_in_one_metric(Triangle t) const {
 
 int AdaptedMesh::count_inverted() {
   int n = 0;
-  for (int i = 0; i < mesh_.triangle_capacity(); ++i) {
-    const Triangle t(i);
-    if (!mesh_.is_deleted(t) && is_inverted(t)) ++n;
-  }
+  for (Triangle t : mesh_.triangles())
+    if (is_inverted(t)) ++n;
   return n;
 }
 
@@ -187,21 +183,19 @@ void AdaptedMesh::mark_rough_triangles() {
   rough_.assign(static_cast<std::size_t>(g.triangle_capacity()), 0);
   constexpr double kFoldCosine = 0.5;  // 60 degrees
   std::vector<Vec3> unit(static_cast<std::size_t>(g.triangle_capacity()));
-  for (int i = 0; i < g.triangle_capacity(); ++i)
-    if (!g.is_deleted(Triangle(i))) unit[static_cast<std::size_t>(i)] = normalized(g.triangle_normal(Triangle(i)));
+  for (Triangle t : g.triangles()) unit[static_cast<std::size_t>(t.idx)] = normalized(g.triangle_normal(t));
   // Vertex by vertex, each fan once: its triangles are all rough when v is
   // on a feature or has another sheet within a quarter of its edges (a thin
   // part, nearly touching sheets of a defective input: a point of T_1 near v
   // may be closest to that sheet); a triangle of the fan is rough when
   // another triangle of the fan turns more than 60 degrees from it.
-  for (int i = 0; i < g.vertex_capacity(); ++i) {
-    const Vertex v(i);
-    if (g.is_deleted(v) || g.is_isolated(v)) continue;
+  for (Vertex v : g.vertices()) {
+    if (g.is_isolated(v)) continue;
     double longest = 0;
-    for (Vertex w : one_ring(g, v)) longest = std::max(longest, norm(g.position(w) - g.position(v)));
+    for (Vertex w : g.ring_vertices(v)) longest = std::max(longest, norm(g.position(w) - g.position(v)));
     const bool rough_vertex = (g.vertex_tags(v) & (kRidge | kBoundary | kCorner | kRequired)) ||
                               geometry_.clearance(v) < 0.25 * longest;
-    const std::vector<Corner> fan = g.fan(v);
+    const FanCornerRange fan = g.fan_corners(v);
     for (Corner a : fan) {
       const auto ta = static_cast<std::size_t>(SurfaceMesh::triangle(a).idx);
       if (rough_vertex) {

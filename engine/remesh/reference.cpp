@@ -80,21 +80,20 @@ void ControlSpace::set_relaxation(double t) {
   if (relaxed_.empty()) relaxed_.assign(target_.size(), SymTensor3::identity());
   if (implied_.empty()) {
     implied_.assign(target_.size(), SymTensor3::identity());
-    for (int i = 0; i < mesh_.vertex_capacity(); ++i) {
-      const Vertex v(i);
-      if (mesh_.is_deleted(v) || mesh_.is_isolated(v)) continue;
+    for (Vertex v : mesh_.vertices()) {
+      if (mesh_.is_isolated(v)) continue;
       double sum = 0;
       int n = 0;
-      for (Vertex w : one_ring(mesh_, v)) {
+      for (Vertex w : mesh_.ring_vertices(v)) {
         sum += norm(mesh_.position(w) - mesh_.position(v));
         ++n;
       }
-      if (n > 0 && sum > 0) implied_[i] = isotropic_metric(sum / n);
+      if (n > 0 && sum > 0) implied_[v.idx] = isotropic_metric(sum / n);
     }
   }
-  for (int i = 0; i < mesh_.vertex_capacity(); ++i) {
-    const Vertex v(i);
-    if (mesh_.is_deleted(v) || mesh_.is_isolated(v)) continue;
+  for (Vertex v : mesh_.vertices()) {
+    if (mesh_.is_isolated(v)) continue;
+    const int i = v.idx;
     const SymTensor3 target = from_interpolation_space(target_[i], interpolation_);
     relaxed_[i] = to_interpolation_space(tensor_exp((1 - t) * tensor_log(implied_[i]) + t * tensor_log(target)),
                                          interpolation_);

@@ -50,22 +50,10 @@ class EdgeHeap {
 
 std::array<int, 2> key(Vertex a, Vertex b) { return a.idx < b.idx ? std::array{a.idx, b.idx} : std::array{b.idx, a.idx}; }
 
-// Calls f(corner) once per live edge.
-template <class F>
-void for_each_edge(const SurfaceMesh& mesh, F&& f) {
-  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-    if (mesh.is_deleted(Triangle(t))) continue;
-    for (int k = 0; k < 3; ++k) {
-      const Corner c = M::corner(Triangle(t), k);
-      if (mesh.canonical(c) == c) f(c);
-    }
-  }
-}
-
 // The edges of the triangles around v that are opposite v.
 std::vector<std::array<int, 2>> link_edges(const SurfaceMesh& mesh, Vertex v) {
   std::vector<std::array<int, 2>> out;
-  for (Corner c : mesh.fan(v)) out.push_back({mesh.vertex(M::next(c)).idx, mesh.vertex(M::prev(c)).idx});
+  for (Corner c : mesh.fan_corners(v)) out.push_back({mesh.vertex(M::next(c)).idx, mesh.vertex(M::prev(c)).idx});
   return out;
 }
 
@@ -142,13 +130,13 @@ void Remesher::record_touched(PassReport& r, Vertex v) {
 void Remesher::touch(PassReport& r, Vertex v) {
   record_touched(r, v);
   mark(v);
-  for (Vertex w : one_ring(mesh_.mesh(), v)) mark(w);
+  for (Vertex w : mesh_.mesh().ring_vertices(v)) mark(w);
 }
 
 void Remesher::remember(PassKind kind, Vertex v) {
   if (options_.cache_size <= 0) return;
   Modification mod{kind, {}};
-  for (Vertex w : one_ring(mesh_.mesh(), v)) mod.created.push_back(key(v, w));
+  for (Vertex w : mesh_.mesh().ring_vertices(v)) mod.created.push_back(key(v, w));
   cache_.push_back(std::move(mod));
   while (static_cast<int>(cache_.size()) > options_.cache_size) cache_.pop_front();
 }
@@ -215,11 +203,11 @@ int Remesher::split_generation(PassReport& r, bool follow_new_edges) {
   SurfaceMesh& mesh = mesh_.mesh();
   const OperatorOptions& o = options_.op;
   EdgeHeap<Longer> heap(heap_);
-  for_each_edge(mesh, [&](Corner c) {
+  for (Corner c : mesh.edges()) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     const double l = mesh_.length(a, b);
     if (l > o.lmax) heap.push({l, a.idx, b.idx});
-  });
+  }
   // A guard against cycles that grows with the mesh (a refinement multiplies
   // the triangles many times over in one pass).
   long long pops = 0;
@@ -254,7 +242,7 @@ int Remesher::split_generation(PassReport& r, bool follow_new_edges) {
     touch(r, v);
     if (!follow_new_edges) continue;
     local_swaps(v, r);
-    for (Vertex w : one_ring(mesh, v)) {
+    for (Vertex w : mesh.ring_vertices(v)) {
       const double l = mesh_.length(v, w);
       if (l > o.lmax) heap.push({l, v.idx, w.idx});
     }
@@ -266,11 +254,11 @@ void Remesher::collapse_pass(PassReport& r) {
   SurfaceMesh& mesh = mesh_.mesh();
   const OperatorOptions& o = options_.op;
   EdgeHeap<Shorter> heap(heap_);
-  for_each_edge(mesh, [&](Corner c) {
+  for (Corner c : mesh.edges()) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     const double l = mesh_.length(a, b);
     if (l < o.lmin) heap.push({l, a.idx, b.idx});
-  });
+  }
   long long budget = 20LL * mesh.n_triangles() + 1000;
   while (!heap.empty() && budget-- > 0 && !interrupted(r)) {
     const EdgeItem it = heap.pop();
@@ -292,7 +280,7 @@ void Remesher::collapse_pass(PassReport& r) {
     remember(PassKind::Collapse, v);
     local_swaps(v, r);
     touch(r, v);
-    for (Vertex w : one_ring(mesh, v)) {
+    for (Vertex w : mesh.ring_vertices(v)) {
       const double l = mesh_.length(v, w);
       if (l < o.lmin) heap.push({l, v.idx, w.idx});
     }
@@ -305,10 +293,10 @@ void Remesher::swap_pass(PassReport& r) {
   std::vector<std::uint8_t> active(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
   swap_active_.resize(active.size(), 0);
   active.swap(swap_active_);
-  for_each_edge(mesh, [&](Corner c) {
+  for (Corner c : mesh.edges()) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     if (!mesh.is_boundary_edge(c) && (active[a.idx] || active[b.idx])) queue.push_back({a.idx, b.idx});
-  });
+  }
   long long budget = static_cast<long long>(options_.max_swap_sweeps) * static_cast<long long>(queue.size()) + 16;
   while (!queue.empty() && budget-- > 0 && !interrupted(r)) {
     const auto e = queue.front();
@@ -342,9 +330,9 @@ void Remesher::smooth_pass(PassReport& r) {
   std::vector<std::uint8_t> active(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
   smooth_active_.resize(active.size(), 0);
   active.swap(smooth_active_);
-  for (int i = 0; i < mesh.vertex_capacity() && !interrupted(r); ++i) {
-    const Vertex v(i);
-    if (!active[i] || mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+  for (Vertex v : mesh.vertices()) {
+    if (interrupted(r)) break;
+    if (!active[v.idx] || mesh.is_isolated(v)) continue;
     const MovePlan plan = can_move(mesh_, v, o);
     if (plan.why != Rejection::None) {
       if (plan.why != Rejection::Fixed && plan.why != Rejection::NoGain) ++r.rejected[static_cast<int>(plan.why)];
@@ -362,9 +350,8 @@ void Remesher::final_pass(PassReport& r) {
   // Section 6, final optimisation 1: interior vertices of valence < 4.
   OperatorOptions o = options_.op;
   o.lmax = INFINITY;  // the remaining edges exist already
-  for (int i = 0; i < mesh.vertex_capacity(); ++i) {
-    const Vertex v(i);
-    if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+  for (Vertex v : mesh.vertices()) {
+    if (mesh.is_isolated(v)) continue;
     if (mesh_.kind(v) != VertexKind::Free || mesh.valence(v) >= 4) continue;
     const CollapsePlan plan = can_remove_vertex(mesh_, v, o);
     if (plan.why != Rejection::None) {
@@ -413,9 +400,9 @@ int Remesher::valence_swaps(PassReport& r) {
     return hi <= 1.5 * lo;
   };
   std::vector<std::array<int, 2>> edges;
-  for_each_edge(mesh, [&](Corner c) {
+  for (Corner c : mesh.edges()) {
     if (!mesh.is_boundary_edge(c)) edges.push_back({mesh.edge_from(c).idx, mesh.edge_to(c).idx});
-  });
+  }
   int n = 0;
   for (const auto& e : edges) {
     const Vertex a(e[0]), b(e[1]);
@@ -454,9 +441,7 @@ void Remesher::fill_state(PassReport& r) const {
   // measured from both sides: no array of lengths, whose memory would add
   // to the peak of a large refinement); an edge is counted at its canonical
   // corner (the edge of corner k runs from vertex k + 1 to k + 2).
-  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-    const Triangle tr(t);
-    if (mesh.is_deleted(tr)) continue;
+  for (Triangle tr : mesh.triangles()) {
     std::array<double, 3> len;
     for (int k = 0; k < 3; ++k) {
       const Corner c = M::corner(tr, k);
