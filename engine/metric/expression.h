@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "metric/hessian.h"
 #include "metric/metric_field.h"
 
 namespace anisurf {
@@ -52,5 +53,29 @@ MetricField metric_from_size_expression(const SurfaceMesh& mesh, const std::stri
 // vertex metric must be SPD.
 MetricField metric_from_tensor_expression(const SurfaceMesh& mesh, const std::string& expression,
                                           const std::vector<int>& vertex_origin = {});
+
+// The Hessian of a one-result expression f(x, y, z) as a field on the
+// surface, per vertex slot, in the form recover_derivatives gives (a tangent
+// 3D tensor, zero along the normal): the Hessian over the tangent-plane
+// parametrisation, P H3 P - (grad f . n) II, with H3 and grad f . n by
+// central finite differences of f and II, n the fitted second fundamental
+// form and normals (recover_curvature, fitted_normals with `options`).
+// Use it for the metric of an expression (the report's section 7.1 cases):
+// it is exact for quadratics whatever the mesh (two triangles of the unit
+// square and f = 100 x^2 give H = diag(200, 0)), where a recovery from the
+// vertex values only sees the P1 field (a linear one there). Use
+// recover_derivatives for a field known by its vertex values only.
+// The differences run along the principal axes of each vertex's one-ring
+// edges, each step the longest edge projection on its axis: a discontinuity
+// of f within an edge of v gives jump / step^2, as a recovery on the mesh
+// does, finite and growing as the mesh refines there (an L^p metric with
+// finite p keeps the refinement there bounded; see cycle_metric_defaults).
+// Where f is not finite at a difference point (a function's domain ends
+// there) the steps are halved, up to 20 times. Throws ExpressionError for a
+// parse error, more than one result, or a non-finite value at or next to a
+// vertex (named, 1-based through `vertex_origin`).
+std::vector<SymTensor3> hessian_of_expression(const SurfaceMesh& mesh, const std::string& expression,
+                                              const std::vector<int>& vertex_origin = {},
+                                              const HessianRecoveryOptions& options = {});
 
 }  // namespace anisurf
