@@ -192,20 +192,25 @@ TEST_CASE("hessian loop: the Hessian of an expression on a sphere includes the c
   CHECK(worst < 0.1);
 }
 
-TEST_CASE("hessian loop: a discontinuity gives jump / step^2 next to it, the exact Hessian away from it") {
+TEST_CASE("hessian loop: a discontinuity gives jump / h^2 across it, the exact Hessian away from it") {
   const int n = 20;
   const SurfaceMesh m = grid_square(n);
   const std::vector<SymTensor3> H = hessian_of_expression(m, "(x<0.33)?100*x^2:5");
   const double h = 1.0 / n;
+  double largest_across = 0;
   for (int i = 0; i < m.vertex_capacity(); ++i) {
     const double x = m.position(Vertex(i)).x;
     CAPTURE(x);
     REQUIRE(std::isfinite(frobenius_norm(H[i])));
     if (x < 0.33 - 1.5 * h) CHECK(H[i].xx() == doctest::Approx(200).epsilon(1e-6));
     if (x > 0.33 + 1.5 * h) CHECK(frobenius_norm(H[i]) < 1e-6);
-    // Next to the jump (f from 10.9 to 5), of the order of the jump over h^2.
-    if (std::fabs(x - 0.33) < h) CHECK(std::fabs(H[i].xx()) > 0.5 * 5.0 / (h * h));
+    // Next to the jump (f from 10.9 to 5): curvature across it, little along it.
+    if (std::fabs(x - 0.33) < h) {
+      largest_across = std::max(largest_across, std::fabs(H[i].xx()));
+      CHECK(std::fabs(H[i].yy()) < 0.05 * std::fabs(H[i].xx()));  // the P1 gradient is a little off x
+    }
   }
+  CHECK(largest_across > 0.5 * 5.0 / (h * h));
   // A domain ending beyond the mesh (sqrt of a negative number past x = 1.03):
   // shorter steps there, finite values.
   for (const SymTensor3& X : hessian_of_expression(m, "sqrt(1.03 - x)")) CHECK(std::isfinite(frobenius_norm(X)));

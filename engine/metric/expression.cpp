@@ -124,6 +124,39 @@ bool central_differences(const Expression& e, const Vec3& p, const Vec3& n, cons
   return finite;
 }
 
+// The stencil at a vertex where f is not smooth at the scale of the edges:
+// t1 across the discontinuity (along the gradient of the P1 field, which
+// points across a jump), t2 along it, each step the longest projection of
+// the one-ring edges. A jump along t2 then gives jump / step^2 along t1 and
+// no spurious curvature along the discontinuity.
+DifferenceStencil across_and_along(const SurfaceMesh& mesh, Vertex v, const Vec3& n, const Vec3& gradient,
+                                   double floor) {
+  const Vec3 g = gradient - dot(gradient, n) * n;
+  if (!(norm(g) > 0)) return difference_stencil(mesh, v, n, floor);
+  DifferenceStencil d;
+  d.t = {normalized(g), normalized(cross(n, g))};
+  const Vec3 p0 = mesh.position(v);
+  for (Vertex w : one_ring(mesh, v))
+    for (int k = 0; k < 2; ++k) d.step[k] = std::max(d.step[k], std::fabs(dot(mesh.position(w) - p0, d.t[k])));
+  for (int k = 0; k < 2; ++k)
+    if (!(d.step[k] >= floor)) d.step[k] = std::max(d.step[1 - k], floor);
+  return d;
+}
+
+// Whether the second differences at a step and at half of it agree (within
+// 10 %, or within the rounding of the half-step differences): f is smooth at
+// the scale of the edges. A jump or a kink within the stencil, or features
+// smaller than the edges, make them disagree.
+bool resolved_by_differences(const SymTensor2& full, const SymTensor2& half, double f0, double half_step) {
+  double difference = 0, size = 0;
+  for (int k = 0; k < 3; ++k) {
+    difference = std::max(difference, std::fabs(full.m[k] - half.m[k]));
+    size = std::max({size, std::fabs(full.m[k]), std::fabs(half.m[k])});
+  }
+  const double rounding = 1e-12 * (std::fabs(f0) + 1.0) / (half_step * half_step);
+  return difference <= 0.1 * size + rounding;
+}
+
 }  // namespace
 
 Expression::Expression(const std::string& text) : impl_(std::make_unique<Impl>()) {
@@ -227,27 +260,46 @@ std::vector<SymTensor3> hessian_of_expression(const SurfaceMesh& mesh, const std
   const std::vector<SymTensor3> II = recover_curvature(mesh, options);
   const double floor = 1e-9 * std::max(mesh.bbox().diagonal(), 1e-300);
   std::vector<SymTensor3> H(mesh.vertex_capacity(), SymTensor3());
+  std::vector<int> unresolved;
   for (int i = 0; i < mesh.vertex_capacity(); ++i) {
     const Vertex v(i);
     if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
     DifferenceStencil d = difference_stencil(mesh, v, normal[i], floor);
-    DifferenceResult r;
+    DifferenceResult r, half;
+    DifferenceStencil d_half = d;
     // A value outside the domain of a function (sqrt of a negative number just
     // beyond a boundary): shorter steps, down to 2^-20 of the edge length.
-    int halvings = 0;
-    while (!central_differences(e, mesh.position(v), normal[i], d, f0[i], r)) {
-      if (++halvings > 20)
+    for (int halvings = 0;; ++halvings) {
+      d_half.step = {0.5 * d.step[0], 0.5 * d.step[1]};
+      if (central_differences(e, mesh.position(v), normal[i], d, f0[i], r) &&
+          central_differences(e, mesh.position(v), normal[i], d_half, f0[i], half))
+        break;
+      if (halvings == 20)
         throw ExpressionError("the expression '" + expression + "' is not finite next to " +
                               describe_vertex(mesh, i, vertex_origin) +
                               " (finite differences for its Hessian): outside the domain of a function?");
-      d.step[0] *= 0.5;
-      d.step[1] *= 0.5;
+      d.step = d_half.step;
+    }
+    if (!resolved_by_differences(r.hessian, half.hessian, f0[i], std::min(d_half.step[0], d_half.step[1]))) {
+      unresolved.push_back(i);
+      continue;
     }
     // Hessian over the tangent-plane parametrisation: the tangent part of the
     // 3D Hessian minus (grad f . n) times the second fundamental form.
-    SymTensor2 T = r.hessian;
-    T += -r.normal_derivative * restrict_to_tangent(II[i], d.t[0], d.t[1]);
+    SymTensor2 T = half.hessian;
+    T += -half.normal_derivative * restrict_to_tangent(II[i], d.t[0], d.t[1]);
     H[i] = extend_from_tangent(T, d.t[0], d.t[1], 0.0);
+  }
+  if (!unresolved.empty()) {
+    const RecoveredDerivatives recovered = recover_derivatives(mesh, f0, options);
+    for (int i : unresolved) {
+      const Vertex v(i);
+      const DifferenceStencil d = across_and_along(mesh, v, normal[i], recovered.gradient[i], floor);
+      DifferenceResult r;
+      H[i] = central_differences(e, mesh.position(v), normal[i], d, f0[i], r)
+                 ? extend_from_tangent(r.hessian, d.t[0], d.t[1], 0.0)
+                 : recovered.hessian[i];
+    }
   }
   return H;
 }

@@ -66,10 +66,15 @@ MetricField metric_from_tensor_expression(const SurfaceMesh& mesh, const std::st
 // vertex values only sees the P1 field (a linear one there). Use
 // recover_derivatives for a field known by its vertex values only.
 // The differences run along the principal axes of each vertex's one-ring
-// edges, each step the longest edge projection on its axis: a discontinuity
-// of f within an edge of v gives jump / step^2, as a recovery on the mesh
-// does, finite and growing as the mesh refines there (an L^p metric with
-// finite p keeps the refinement there bounded; see cycle_metric_defaults).
+// edges, the step the longest edge projection on its axis, and again at half
+// that step. Where the two disagree (by more than 10 %: a jump or a kink of f
+// within the stencil, or features smaller than the edges) the Hessian is
+// the one recovered from the vertex values (recover_derivatives): a jump
+// then gives jump / h^2 with h the local mesh size, as on a field, finite
+// and growing as the mesh refines there (an L^p metric with finite p keeps
+// the refinement bounded; see cycle_metric_defaults), instead of a
+// difference quotient whose size depends on where the jump falls in the
+// stencil.
 // Where f is not finite at a difference point (a function's domain ends
 // there) the steps are halved, up to 20 times. Throws ExpressionError for a
 // parse error, more than one result, or a non-finite value at or next to a
