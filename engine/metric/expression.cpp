@@ -124,23 +124,23 @@ bool central_differences(const Expression& e, const Vec3& p, const Vec3& n, cons
   return finite;
 }
 
-// The stencil at a vertex where f is not smooth at the scale of the edges:
-// t1 across the discontinuity (along the gradient of the P1 field, which
-// points across a jump), t2 along it, each step the longest projection of
-// the one-ring edges. A jump along t2 then gives jump / step^2 along t1 and
-// no spurious curvature along the discontinuity.
-DifferenceStencil across_and_along(const SurfaceMesh& mesh, Vertex v, const Vec3& n, const Vec3& gradient,
-                                   double floor) {
-  const Vec3 g = gradient - dot(gradient, n) * n;
-  if (!(norm(g) > 0)) return difference_stencil(mesh, v, n, floor);
-  DifferenceStencil d;
-  d.t = {normalized(g), normalized(cross(n, g))};
-  const Vec3 p0 = mesh.position(v);
-  for (Vertex w : one_ring(mesh, v))
-    for (int k = 0; k < 2; ++k) d.step[k] = std::max(d.step[k], std::fabs(dot(mesh.position(w) - p0, d.t[k])));
-  for (int k = 0; k < 2; ++k)
-    if (!(d.step[k] >= floor)) d.step[k] = std::max(d.step[1 - k], floor);
-  return d;
+// The vertices within `rings` edges of the seeds (seeds included).
+std::vector<int> within_rings(const SurfaceMesh& mesh, const std::vector<int>& seeds, int rings) {
+  std::vector<char> in(mesh.vertex_capacity(), 0);
+  std::vector<int> out = seeds, front = seeds;
+  for (int i : seeds) in[i] = 1;
+  for (int r = 0; r < rings; ++r) {
+    std::vector<int> next;
+    for (int i : front)
+      for (Vertex w : one_ring(mesh, Vertex(i)))
+        if (!in[w.idx]) {
+          in[w.idx] = 1;
+          next.push_back(w.idx);
+        }
+    out.insert(out.end(), next.begin(), next.end());
+    front.swap(next);
+  }
+  return out;
 }
 
 // Whether the second differences at a step and at half of it agree (within
@@ -292,14 +292,7 @@ std::vector<SymTensor3> hessian_of_expression(const SurfaceMesh& mesh, const std
   }
   if (!unresolved.empty()) {
     const RecoveredDerivatives recovered = recover_derivatives(mesh, f0, options);
-    for (int i : unresolved) {
-      const Vertex v(i);
-      const DifferenceStencil d = across_and_along(mesh, v, normal[i], recovered.gradient[i], floor);
-      DifferenceResult r;
-      H[i] = central_differences(e, mesh.position(v), normal[i], d, f0[i], r)
-                 ? extend_from_tangent(r.hessian, d.t[0], d.t[1], 0.0)
-                 : recovered.hessian[i];
-    }
+    for (int i : within_rings(mesh, unresolved, options.rings)) H[i] = recovered.hessian[i];
   }
   return H;
 }

@@ -68,13 +68,15 @@ MetricField metric_from_tensor_expression(const SurfaceMesh& mesh, const std::st
 // The differences run along the principal axes of each vertex's one-ring
 // edges, the step the longest edge projection on its axis, and again at half
 // that step. Where the two disagree (by more than 10 %: a jump or a kink of f
-// within the stencil, or features smaller than the edges) the Hessian is
-// the one recovered from the vertex values (recover_derivatives): a jump
-// then gives jump / h^2 with h the local mesh size, as on a field, finite
-// and growing as the mesh refines there (an L^p metric with finite p keeps
-// the refinement bounded; see cycle_metric_defaults), instead of a
-// difference quotient whose size depends on where the jump falls in the
-// stencil.
+// within the stencil, or features smaller than the edges), and within
+// options.rings rings of there, the Hessian is the one recovered from the
+// vertex values (recover_derivatives). A jump then gives jump / h^2 with h
+// the local mesh size, spread over the fit's rings as on a field: finite,
+// growing as the mesh refines there, and the L^p metric with finite p
+// (cycle_metric_defaults) reaches a fixed point in the cycles. (Differences
+// alone give a value that depends on where the jump falls in a one-ring
+// stencil, and an abrupt change to the exact Hessian one ring further: the
+// vertex counts of the cycles then oscillate by a factor 2.)
 // Where f is not finite at a difference point (a function's domain ends
 // there) the steps are halved, up to 20 times. Throws ExpressionError for a
 // parse error, more than one result, or a non-finite value at or next to a
