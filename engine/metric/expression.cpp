@@ -61,7 +61,6 @@ void for_each_vertex_value(const SurfaceMesh& mesh, const Expression& e, const s
   }
 }
 
-
 // Directions and steps of the finite differences at v: the principal axes
 // (t1, t2) of v's one-ring edges projected onto the tangent plane of n, each
 // step the longest projection of an edge on its axis (the local edge length
