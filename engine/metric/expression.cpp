@@ -1,7 +1,11 @@
 #include "metric/expression.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+
+#include "mesh/operators.h"
+#include "metric/surface_metric.h"
 
 #ifdef ANISURF_HAVE_MUPARSER
 #include <muParser.h>
@@ -55,6 +59,101 @@ void for_each_vertex_value(const SurfaceMesh& mesh, const Expression& e, const s
                               (std::isinf(r[k]) ? ": a division by zero?" : ": outside the domain of a function?"));
     use(i, r);
   }
+}
+
+// Directions and steps of the finite differences at v: the principal axes
+// (t1, t2) of v's one-ring edges projected onto the tangent plane of n, each
+// step the longest projection of an edge on its axis (the local edge length
+// along that direction, so that a difference reaches the neighbours and sees
+// what the P1 field on the mesh sees). Steps below `floor` take the other
+// step, then `floor`.
+struct DifferenceStencil {
+  std::array<Vec3, 2> t;
+  std::array<double, 2> step{};
+};
+DifferenceStencil difference_stencil(const SurfaceMesh& mesh, Vertex v, const Vec3& n, double floor) {
+  const std::array<Vec3, 2> fr = tangent_frame(n);
+  const Vec3 p0 = mesh.position(v);
+  std::vector<std::array<double, 2>> edges;
+  SymTensor2 spread;
+  for (Vertex w : one_ring(mesh, v)) {
+    const Vec3 e = mesh.position(w) - p0;
+    const double a = dot(e, fr[0]), b = dot(e, fr[1]);
+    edges.push_back({a, b});
+    spread += SymTensor2(a * a, a * b, b * b);
+  }
+  const double angle = eigen_decompose(spread).angle;
+  const double c = std::cos(angle), s = std::sin(angle);
+  DifferenceStencil d;
+  d.t = {c * fr[0] + s * fr[1], -s * fr[0] + c * fr[1]};
+  for (const auto& e : edges) {
+    d.step[0] = std::max(d.step[0], std::fabs(c * e[0] + s * e[1]));
+    d.step[1] = std::max(d.step[1], std::fabs(-s * e[0] + c * e[1]));
+  }
+  for (int k = 0; k < 2; ++k)
+    if (!(d.step[k] >= floor)) d.step[k] = std::max(d.step[1 - k], floor);
+  return d;
+}
+
+// Second derivatives of f along the stencil's axes by central differences
+// (3 points per axis for the diagonal terms, 4 corners at half steps for the
+// mixed one), and the normal derivative by a central difference of the
+// smaller step. All exact for quadratics. False if a value is not finite.
+struct DifferenceResult {
+  SymTensor2 hessian;  // in the basis t1, t2
+  double normal_derivative = 0;
+};
+bool central_differences(const Expression& e, const Vec3& p, const Vec3& n, const DifferenceStencil& d, double f0,
+                         DifferenceResult& out) {
+  bool finite = true;
+  auto f = [&](const Vec3& q) {
+    const double r = e.evaluate(q)[0];
+    finite = finite && std::isfinite(r);
+    return r;
+  };
+  const Vec3 a = d.step[0] * d.t[0], b = d.step[1] * d.t[1];
+  const double h11 = (f(p + a) - 2 * f0 + f(p - a)) / (d.step[0] * d.step[0]);
+  const double h22 = (f(p + b) - 2 * f0 + f(p - b)) / (d.step[1] * d.step[1]);
+  // The corners at half steps stay within the reach of the axial points.
+  const Vec3 a2 = 0.5 * a, b2 = 0.5 * b;
+  const double h12 = (f(p + a2 + b2) - f(p + a2 - b2) - f(p - a2 + b2) + f(p - a2 - b2)) / (d.step[0] * d.step[1]);
+  const double sn = std::min(d.step[0], d.step[1]);
+  out.normal_derivative = (f(p + sn * n) - f(p - sn * n)) / (2 * sn);
+  out.hessian = SymTensor2(h11, h12, h22);
+  return finite;
+}
+
+// The vertices within `rings` edges of the seeds (seeds included).
+std::vector<int> within_rings(const SurfaceMesh& mesh, const std::vector<int>& seeds, int rings) {
+  std::vector<char> in(mesh.vertex_capacity(), 0);
+  std::vector<int> out = seeds, front = seeds;
+  for (int i : seeds) in[i] = 1;
+  for (int r = 0; r < rings; ++r) {
+    std::vector<int> next;
+    for (int i : front)
+      for (Vertex w : one_ring(mesh, Vertex(i)))
+        if (!in[w.idx]) {
+          in[w.idx] = 1;
+          next.push_back(w.idx);
+        }
+    out.insert(out.end(), next.begin(), next.end());
+    front.swap(next);
+  }
+  return out;
+}
+
+// Whether the second differences at a step and at half of it agree (within
+// 10 %, or within the rounding of the half-step differences): f is smooth at
+// the scale of the edges. A jump or a kink within the stencil, or features
+// smaller than the edges, make them disagree.
+bool resolved_by_differences(const SymTensor2& full, const SymTensor2& half, double f0, double half_step) {
+  double difference = 0, size = 0;
+  for (int k = 0; k < 3; ++k) {
+    difference = std::max(difference, std::fabs(full.m[k] - half.m[k]));
+    size = std::max({size, std::fabs(full.m[k]), std::fabs(half.m[k])});
+  }
+  const double rounding = 1e-12 * (std::fabs(f0) + 1.0) / (half_step * half_step);
+  return difference <= 0.1 * size + rounding;
 }
 
 }  // namespace
@@ -146,6 +245,55 @@ MetricField metric_from_tensor_expression(const SurfaceMesh& mesh, const std::st
                             problem);
   });
   return M;
+}
+
+std::vector<SymTensor3> hessian_of_expression(const SurfaceMesh& mesh, const std::string& expression,
+                                              const std::vector<int>& vertex_origin,
+                                              const HessianRecoveryOptions& options) {
+  const Expression e(expression);
+  if (e.results() != 1)
+    throw ExpressionError("the expression '" + expression + "' has " + std::to_string(e.results()) +
+                          " comma-separated results, expected one value");
+  const std::vector<double> f0 = evaluate_at_vertices(mesh, expression, vertex_origin);
+  const std::vector<Vec3> normal = fitted_normals(mesh, options);
+  const std::vector<SymTensor3> II = recover_curvature(mesh, options);
+  const double floor = 1e-9 * std::max(mesh.bbox().diagonal(), 1e-300);
+  std::vector<SymTensor3> H(mesh.vertex_capacity(), SymTensor3());
+  std::vector<int> unresolved;
+  for (int i = 0; i < mesh.vertex_capacity(); ++i) {
+    const Vertex v(i);
+    if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+    DifferenceStencil d = difference_stencil(mesh, v, normal[i], floor);
+    DifferenceResult r, half;
+    DifferenceStencil d_half = d;
+    // A value outside the domain of a function (sqrt of a negative number just
+    // beyond a boundary): shorter steps, down to 2^-20 of the edge length.
+    for (int halvings = 0;; ++halvings) {
+      d_half.step = {0.5 * d.step[0], 0.5 * d.step[1]};
+      if (central_differences(e, mesh.position(v), normal[i], d, f0[i], r) &&
+          central_differences(e, mesh.position(v), normal[i], d_half, f0[i], half))
+        break;
+      if (halvings == 20)
+        throw ExpressionError("the expression '" + expression + "' is not finite next to " +
+                              describe_vertex(mesh, i, vertex_origin) +
+                              " (finite differences for its Hessian): outside the domain of a function?");
+      d.step = d_half.step;
+    }
+    if (!resolved_by_differences(r.hessian, half.hessian, f0[i], std::min(d_half.step[0], d_half.step[1]))) {
+      unresolved.push_back(i);
+      continue;
+    }
+    // Hessian over the tangent-plane parametrisation: the tangent part of the
+    // 3D Hessian minus (grad f . n) times the second fundamental form.
+    SymTensor2 T = half.hessian;
+    T += -half.normal_derivative * restrict_to_tangent(II[i], d.t[0], d.t[1]);
+    H[i] = extend_from_tangent(T, d.t[0], d.t[1], 0.0);
+  }
+  if (!unresolved.empty()) {
+    const RecoveredDerivatives recovered = recover_derivatives(mesh, f0, options);
+    for (int i : within_rings(mesh, unresolved, options.rings)) H[i] = recovered.hessian[i];
+  }
+  return H;
 }
 
 }  // namespace anisurf

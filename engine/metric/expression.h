@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "metric/hessian.h"
 #include "metric/metric_field.h"
 
 namespace anisurf {
@@ -52,5 +53,36 @@ MetricField metric_from_size_expression(const SurfaceMesh& mesh, const std::stri
 // vertex metric must be SPD.
 MetricField metric_from_tensor_expression(const SurfaceMesh& mesh, const std::string& expression,
                                           const std::vector<int>& vertex_origin = {});
+
+// The Hessian of a one-result expression f(x, y, z) as a field on the
+// surface, per vertex slot, in the form recover_derivatives gives (a tangent
+// 3D tensor, zero along the normal): the Hessian over the tangent-plane
+// parametrisation, P H3 P - (grad f . n) II, with H3 and grad f . n by
+// central finite differences of f and II, n the fitted second fundamental
+// form and normals (recover_curvature, fitted_normals with `options`).
+// Use it for the metric of an expression (the report's section 7.1 cases):
+// it is exact for quadratics whatever the mesh (two triangles of the unit
+// square and f = 100 x^2 give H = diag(200, 0)), where a recovery from the
+// vertex values only sees the P1 field (a linear one there). Use
+// recover_derivatives for a field known by its vertex values only.
+// The differences run along the principal axes of each vertex's one-ring
+// edges, the step the longest edge projection on its axis, and again at half
+// that step. Where the two disagree (by more than 10 %: a jump or a kink of f
+// within the stencil, or features smaller than the edges), and within
+// options.rings rings of there, the Hessian is the one recovered from the
+// vertex values (recover_derivatives). A jump then gives jump / h^2 with h
+// the local mesh size, spread over the fit's rings as on a field: finite,
+// growing as the mesh refines there, and the L^p metric with finite p
+// (cycle_metric_defaults) reaches a fixed point in the cycles. (Differences
+// alone give a value that depends on where the jump falls in a one-ring
+// stencil, and an abrupt change to the exact Hessian one ring further: the
+// vertex counts of the cycles then oscillate by a factor 2.)
+// Where f is not finite at a difference point (a function's domain ends
+// there) the steps are halved, up to 20 times. Throws ExpressionError for a
+// parse error, more than one result, or a non-finite value at or next to a
+// vertex (named, 1-based through `vertex_origin`).
+std::vector<SymTensor3> hessian_of_expression(const SurfaceMesh& mesh, const std::string& expression,
+                                              const std::vector<int>& vertex_origin = {},
+                                              const HessianRecoveryOptions& options = {});
 
 }  // namespace anisurf

@@ -46,63 +46,182 @@ class RingCollector {
   std::vector<int> out_;
 };
 
-// Fits value(w) - value(v) ~ g.(x,y) + 1/2 (x,y) H (x,y)^T [+ cubic terms] on
-// the ring; writes gradient (tangent 3D vector) and Hessian (tangent 3D tensor).
-// Returns false (writing nothing) when the points do not determine the polynomial.
+// How a vertex's derivatives were obtained.
+enum class FitKind { None, Full, Reduced };
+
+// The columns of the local polynomial at the ring points, in the tangent frame
+// of n, coordinates scaled by s (the RMS distance to v): x, y, x^2/2, xy,
+// y^2/2 [, x^3, x^2 y, x y^2, y^3], lowest order first; b holds value(w) - value(v).
+struct LocalSystem {
+  Eigen::MatrixXd A;
+  Eigen::VectorXd b;
+  std::array<Vec3, 2> frame;
+  double s = 1;
+};
+
 template <class Value>
-bool fit_polynomial(const SurfaceMesh& mesh, Vertex v, const std::vector<int>& ring, const Vec3& n, int degree,
-                    Value value, Vec3& gradient, SymTensor3& hessian) {
-  const auto frame = tangent_frame(n);
+LocalSystem local_system(const SurfaceMesh& mesh, Vertex v, const std::vector<int>& ring, const Vec3& n, int degree,
+                         Value value) {
+  LocalSystem ls;
+  ls.frame = tangent_frame(n);
   const Vec3 p0 = mesh.position(v);
   const int m = static_cast<int>(ring.size());
   const int unknowns = degree >= 3 ? 9 : 5;
   double s2 = 0;
   for (int w : ring) s2 += norm2(mesh.position(Vertex(w)) - p0);
-  const double s = std::sqrt(s2 / std::max(m, 1));
-  Eigen::MatrixXd A(m, unknowns);
-  Eigen::VectorXd b(m);
+  ls.s = m > 0 && s2 > 0 ? std::sqrt(s2 / m) : 1.0;
+  ls.A.resize(m, unknowns);
+  ls.b.resize(m);
   const double f0 = value(v);
   for (int i = 0; i < m; ++i) {
-    const Vec3 d = (mesh.position(Vertex(ring[i])) - p0) / s;
-    const double x = dot(d, frame[0]), y = dot(d, frame[1]);
-    A(i, 0) = x;
-    A(i, 1) = y;
-    A(i, 2) = 0.5 * x * x;
-    A(i, 3) = x * y;
-    A(i, 4) = 0.5 * y * y;
+    const Vec3 d = (mesh.position(Vertex(ring[i])) - p0) / ls.s;
+    const double x = dot(d, ls.frame[0]), y = dot(d, ls.frame[1]);
+    ls.A(i, 0) = x;
+    ls.A(i, 1) = y;
+    ls.A(i, 2) = 0.5 * x * x;
+    ls.A(i, 3) = x * y;
+    ls.A(i, 4) = 0.5 * y * y;
     if (unknowns == 9) {
-      A(i, 5) = x * x * x;
-      A(i, 6) = x * x * y;
-      A(i, 7) = x * y * y;
-      A(i, 8) = y * y * y;
+      ls.A(i, 5) = x * x * x;
+      ls.A(i, 6) = x * x * y;
+      ls.A(i, 7) = x * y * y;
+      ls.A(i, 8) = y * y * y;
     }
-    b(i) = value(Vertex(ring[i])) - f0;
+    ls.b(i) = value(Vertex(ring[i])) - f0;
   }
-  if (m < unknowns) return false;
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
+  return ls;
+}
+
+// Gradient (tangent 3D vector) and Hessian (tangent 3D tensor) from the
+// coefficients of the scaled local polynomial.
+void write_derivatives(const LocalSystem& ls, const Eigen::VectorXd& a, Vec3& gradient, SymTensor3& hessian) {
+  const double s = ls.s;
+  gradient = (a(0) / s) * ls.frame[0] + (a(1) / s) * ls.frame[1];
+  hessian = extend_from_tangent(SymTensor2(a(2) / (s * s), a(3) / (s * s), a(4) / (s * s)), ls.frame[0], ls.frame[1],
+                                0.0);
+}
+
+// Least-squares fit of the full polynomial. False (writing nothing) when the
+// points do not determine it.
+bool solve_full(const LocalSystem& ls, Vec3& gradient, SymTensor3& hessian) {
+  if (ls.A.rows() < ls.A.cols()) return false;
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(ls.A);
   qr.setThreshold(1e-10);
-  if (qr.rank() < unknowns) return false;
-  const Eigen::VectorXd a = qr.solve(b);
-  gradient = (a(0) / s) * frame[0] + (a(1) / s) * frame[1];
-  hessian = extend_from_tangent(SymTensor2(a(2) / (s * s), a(3) / (s * s), a(4) / (s * s)), frame[0], frame[1], 0.0);
+  if (qr.rank() < ls.A.cols()) return false;
+  write_derivatives(ls, qr.solve(ls.b), gradient, hessian);
   return true;
+}
+
+// Minimum-norm least-squares solution of M x = r, singular values below
+// `tolerance` * `reference` counted as zero. `range` receives an orthonormal
+// basis of the resolved part of M's range.
+struct MinNormSolution {
+  Eigen::VectorXd x;
+  Eigen::MatrixXd range;
+};
+MinNormSolution min_norm_solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& r, double tolerance,
+                               double reference) {
+  MinNormSolution out;
+  out.x = Eigen::VectorXd::Zero(M.cols());
+  out.range.resize(M.rows(), 0);
+  if (M.cols() == 0 || !(reference > 0)) return out;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(M, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd& sigma = svd.singularValues();
+  int rank = 0;
+  while (rank < sigma.size() && sigma(rank) > tolerance * reference) ++rank;
+  out.range = svd.matrixU().leftCols(rank);
+  const Eigen::VectorXd coefficients = out.range.transpose() * r;
+  for (int k = 0; k < rank; ++k) out.x += (coefficients(k) / sigma(k)) * svd.matrixV().col(k);
+  return out;
+}
+
+// v minus its projection on the orthonormal columns of U.
+Eigen::MatrixXd project_out(const Eigen::MatrixXd& U, const Eigen::MatrixXd& v) {
+  return U.cols() == 0 ? v : Eigen::MatrixXd(v - U * (U.transpose() * v));
+}
+
+// Least-squares fit for points that do not determine the full polynomial
+// (strips one triangle wide, aligned points): among the best fits, the one
+// whose cubic part is smallest, then whose quadratic part is smallest, in
+// the rotation-invariant norms of the derivative tensors (|H|_F for the
+// Hessian), the gradient free. Points on two parallel lines then give the
+// gradient, the curvature along the lines and the twist, and zero curvature
+// across them (which they cannot show), whatever the tangent frame. Needs a
+// resolved second-order term and two more points than resolved terms (an
+// interpolating fit has no redundancy to trust): returns the number of
+// resolved terms then, 0 otherwise (writing nothing).
+int solve_reduced(const LocalSystem& ls, Vec3& gradient, SymTensor3& hessian) {
+  constexpr double kTolerance = 1e-6;
+  const int m = static_cast<int>(ls.A.rows());
+  const bool cubic = ls.A.cols() == 9;
+  // Columns scaled so that the Euclidean norm of the unknowns is the tensor norm.
+  const Eigen::MatrixXd G = ls.A.leftCols(2);
+  Eigen::MatrixXd Q = ls.A.middleCols(2, 3);
+  Q.col(1) /= std::sqrt(2.0);
+  Eigen::MatrixXd C = cubic ? Eigen::MatrixXd(ls.A.rightCols(4)) : Eigen::MatrixXd(m, 0);
+  if (cubic) {
+    C.col(0) /= std::sqrt(3.0);
+    C.col(3) /= std::sqrt(3.0);
+  }
+  // The ranges of the gradient, then of the quadratic terms beyond it.
+  const MinNormSolution g_range = min_norm_solve(G, Eigen::VectorXd::Zero(m), kTolerance, G.norm());
+  const Eigen::MatrixXd Qp = project_out(g_range.range, Q);
+  const MinNormSolution q_range = min_norm_solve(Qp, Eigen::VectorXd::Zero(m), kTolerance, Q.norm());
+  // Cubic terms: what neither the gradient nor the quadratic terms explain.
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(C.cols());
+  int cubic_rank = 0;
+  if (cubic) {
+    const Eigen::MatrixXd Cp = project_out(q_range.range, project_out(g_range.range, C));
+    const Eigen::VectorXd bp = project_out(q_range.range, project_out(g_range.range, ls.b));
+    const MinNormSolution cs = min_norm_solve(Cp, bp, kTolerance, C.norm());
+    c = cs.x;
+    cubic_rank = static_cast<int>(cs.range.cols());
+  }
+  const Eigen::VectorXd r = ls.b - C * c;
+  const MinNormSolution qs = min_norm_solve(Qp, project_out(g_range.range, r), kTolerance, Q.norm());
+  const MinNormSolution gs = min_norm_solve(G, r - Q * qs.x, kTolerance, G.norm());
+  const int resolved = static_cast<int>(g_range.range.cols() + q_range.range.cols()) + cubic_rank;
+  if (q_range.range.cols() == 0 || m < resolved + 2) return 0;
+  Eigen::VectorXd a = Eigen::VectorXd::Zero(ls.A.cols());
+  a.head(2) = gs.x;
+  a(2) = qs.x(0);
+  a(3) = qs.x(1) / std::sqrt(2.0);
+  a(4) = qs.x(2);
+  write_derivatives(ls, a, gradient, hessian);
+  return resolved;
 }
 
 int min_points(const HessianRecoveryOptions& o) { return std::max(o.min_points, o.degree >= 3 ? 12 : 6); }
 
 // The fit at v: the requested degree on the requested rings, more rings (up
 // to 4) when the points do not determine it (grid corners, small meshes),
-// then degree 2. False when nothing determines a quadratic (a vertex of a
-// tiny component, a fin of aligned points): the caller fills it in
+// then degree 2 (FitKind::Full). Where nothing determines the full quadratic
+// (strips of boundary vertices, aligned points), the reduced fit that
+// resolves the most terms over those neighbourhoods (FitKind::Reduced). None
+// when not even that (a vertex of a tiny component): the caller fills it in
 // (fill_unfitted).
 template <class Value>
-bool fit_at(const SurfaceMesh& mesh, Vertex v, RingCollector& rings, const Vec3& n, const HessianRecoveryOptions& o,
-            Value value, Vec3& gradient, SymTensor3& hessian) {
-  for (int degree = std::min(std::max(o.degree, 2), 3); degree >= 2; --degree)
-    for (int r = o.rings; r <= std::max(o.rings, 4); ++r)
-      if (fit_polynomial(mesh, v, rings.collect(v, r, min_points(o)), n, degree, value, gradient, hessian))
-        return true;
-  return false;
+FitKind fit_at(const SurfaceMesh& mesh, Vertex v, RingCollector& rings, const Vec3& n,
+               const HessianRecoveryOptions& o, Value value, Vec3& gradient, SymTensor3& hessian) {
+  const int top = std::min(std::max(o.degree, 2), 3);
+  const int widest = std::max(o.rings, 4);
+  for (int degree = top; degree >= 2; --degree)
+    for (int r = o.rings; r <= widest; ++r)
+      if (solve_full(local_system(mesh, v, rings.collect(v, r, min_points(o)), n, degree, value), gradient, hessian))
+        return FitKind::Full;
+  int best = 0;
+  for (int degree = top; degree >= 2 && best == 0; --degree)
+    for (int r = o.rings; r <= widest; ++r) {
+      Vec3 g;
+      SymTensor3 H;
+      const int k = solve_reduced(local_system(mesh, v, rings.collect(v, r, min_points(o)), n, degree, value), g, H);
+      if (k > best) {
+        best = k;
+        gradient = g;
+        hessian = H;
+      }
+    }
+  return best > 0 ? FitKind::Reduced : FitKind::None;
 }
 
 // Vertices without a fit take the mean of their fitted (or already filled)
@@ -188,7 +307,8 @@ std::vector<Vec3> fitted_normals(const SurfaceMesh& mesh, const HessianRecoveryO
     Vec3 slope;
     SymTensor3 unused;
     // Without a fit the area-weighted normal stays.
-    if (fit_at(mesh, v, rings, n, options, [&](Vertex w) { return dot(mesh.position(w) - p0, n); }, slope, unused))
+    if (fit_at(mesh, v, rings, n, options, [&](Vertex w) { return dot(mesh.position(w) - p0, n); }, slope, unused) !=
+        FitKind::None)
       normal[i] = normalized(n - slope);
   }
   return normal;
@@ -211,8 +331,10 @@ RecoveredDerivatives recover_derivatives(const SurfaceMesh& mesh, const std::vec
   for (int i = 0; i < mesh.vertex_capacity(); ++i) {
     const Vertex v(i);
     if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
-    fitted[i] = fit_at(mesh, v, rings, out.normal[i], options, [&](Vertex w) { return f[w.idx]; }, out.gradient[i],
-                       out.hessian[i]);
+    const FitKind kind = fit_at(mesh, v, rings, out.normal[i], options, [&](Vertex w) { return f[w.idx]; },
+                                out.gradient[i], out.hessian[i]);
+    fitted[i] = kind != FitKind::None;
+    out.reduced += kind == FitKind::Reduced;
   }
   std::vector<char> fitted_g = fitted;
   out.unfitted = fill_unfitted(mesh, out.hessian, fitted, SymTensor3());
@@ -233,11 +355,19 @@ std::vector<SymTensor3> recover_curvature(const SurfaceMesh& mesh, const Hessian
     Vec3 g;
     // Depth below the tangent plane: a sphere with outward normals has
     // curvature +1 / R.
-    fitted[i] = fit_at(mesh, v, rings, n, options, [&](Vertex w) { return -dot(mesh.position(w) - p0, n); }, g, out[i]);
+    fitted[i] = fit_at(mesh, v, rings, n, options, [&](Vertex w) { return -dot(mesh.position(w) - p0, n); }, g,
+                       out[i]) != FitKind::None;
   }
   const int missing = fill_unfitted(mesh, out, fitted, SymTensor3());
   if (unfitted) *unfitted = missing;
   return out;
+}
+
+HessianMetricOptions cycle_metric_defaults() {
+  HessianMetricOptions o;
+  o.p = 2;
+  o.error_constant = 2.0 / 9.0;
+  return o;
 }
 
 MetricField hessian_metric(const SurfaceMesh& mesh, const std::vector<SymTensor3>& hessian,

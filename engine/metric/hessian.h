@@ -4,6 +4,14 @@
 // and the geometric metric of the principal curvatures for a maximum chordal
 // deviation (the report's section 7 builds its metrics this way: "an
 // anisotropic metric is computed so that its adapted mesh minimizes its error").
+//
+// Which Hessian: a field known by its vertex values (a solution carried onto
+// the adapted mesh) -> recover_derivatives; a field given as an expression
+// (--hessian-of, the report's section 7.1 cases) -> hessian_of_expression
+// (metric/expression.h): exact where the expression is smooth at the scale
+// of the edges, even on two triangles, the recovered one near jumps and kinks.
+// Cycles (adapt -> Hessian on the adapted mesh -> metric -> adapt ...) take
+// cycle_metric_defaults().
 #pragma once
 #include <limits>
 #include <vector>
@@ -29,9 +37,15 @@ struct RecoveredDerivatives {
   std::vector<Vec3> gradient;       // in the tangent plane
   std::vector<SymTensor3> hessian;  // tangent Hessian, zero along the normal
   std::vector<Vec3> normal;         // the normals that defined the tangent planes
-  // Vertices whose neighbours (4 rings) do not determine a quadratic (a tiny
-  // component, aligned points): they take the mean of their neighbours'
-  // fits, or zero when none is in reach.
+  // Vertices whose neighbours (4 rings) do not determine the full quadratic
+  // (strips one triangle wide where every vertex is on the boundary, aligned
+  // points) but some second-order term: they take the reduced fit (the
+  // terms the points resolve, lowest order first; zero curvature across a
+  // strip, exact along it).
+  int reduced = 0;
+  // Vertices where not even that is possible (a tiny component, fewer than
+  // two points beyond the resolved terms): they take the mean of their
+  // neighbours' fits, or zero when none is in reach.
   int unfitted = 0;
 };
 
@@ -45,7 +59,14 @@ std::vector<Vec3> fitted_normals(const SurfaceMesh& mesh, const HessianRecoveryO
 // g.(x,y) + 1/2 (x,y) H (x,y)^T [+ cubic terms] on the rings around v). Exact
 // for quadratic f on flat meshes, however irregular; on a curved surface H is
 // the Hessian of f over the tangent-plane parametrisation (the Riemannian
-// Hessian at v).
+// Hessian at v). Where the rings (up to 4) do not determine the polynomial
+// (a strip one triangle wide, as an adaptation to a rank-1 Hessian gives:
+// every vertex on the boundary, the points on two lines) the reduced fit
+// takes the terms they resolve and sets the others to zero, the lowest
+// Frobenius norm first (RecoveredDerivatives::reduced): exact along a strip.
+// This recovers a field known by its vertex values only; for an expression
+// use hessian_of_expression (metric/expression.h), exact on any mesh (two
+// triangles do not show the curvature of a P1 field).
 // Throws MetricError if f has a non-finite value; vertices without a fit:
 // RecoveredDerivatives::unfitted.
 RecoveredDerivatives recover_derivatives(const SurfaceMesh& mesh, const std::vector<double>& f,
@@ -73,6 +94,29 @@ struct HessianMetricOptions {
   // Applied at the end; hmax = infinity means the bounding-box diagonal.
   MetricBounds bounds;
 };
+
+// The Hessian metric options of solution-driven cycles (adapt -> Hessian of
+// the field on the adapted mesh -> metric -> adapt ..., the report's
+// section 7.1), the caller setting only `error` (or `target_vertices`):
+//  - p = 2: the L^2-optimal continuous mesh (Loseille & Alauzet 2011, the
+//    L^p optimum with p = 2), which equidistributes the L^2 error the report
+//    measures. A discontinuity's Hessian on a mesh is jump / h^2: with
+//    p = infinity the metric there is refined by a constant factor per cycle
+//    without end (the report's case 2 at error 0.05: 53, 73, 141, 200, 304
+//    vertices); with p = 2 the metric
+//    there grows as h^(-5/3) only (the factor det^(-1/6)), and the
+//    normalisation over the whole surface keeps the vertex count in step
+//    with the error target for the 6 cycles measured below.
+//  - error_constant 2/9 (BAMG's, Frey & Alauzet 2005).
+//  - bounds: hmax the bounding-box diagonal (implicit, the metric's floor),
+//    no hmin.
+// Measured (bench/hessian_loop.py, 6 cycles, -hgrad -1): f = 100 x^2 from
+// the two-triangle square, error 0.01: 136 vertices, L2 4.1e-3 from cycle 1
+// on; the report's case 2 on square3d.mesh, error 0.0022: 733 / 894 / 921 /
+// 805 vertices at cycles 3-6, L2 4.2e-2 -> 1.3e-2. Beyond 7 cycles the band at
+// the jump keeps narrowing and the count varies by up to x2 from a cycle to
+// the next (an hmin of 1e-4 times the diagonal does not settle it).
+HessianMetricOptions cycle_metric_defaults();
 
 // Metric from tangent Hessians H (one per vertex, as recover_derivatives
 // gives). With |H| the Hessian with absolute eigenvalues in the tangent plane:
