@@ -38,6 +38,8 @@ const char* kAdaptHelp =
     "  --size EXPR          isotropic size h(x,y,z)\n"
     "  --tensor EXPR        'm11, m12, m22, m13, m23, m33'\n"
     "  --hessian-of EXPR    with --error EPS | --complexity C | --vertices N [--norm P]\n"
+    "                       (the L^p-optimal metric, p = 2 by default; see `anisurf\n"
+    "                       metric --help`)\n"
     "                       (a vertex count or complexity is met after bounds and\n"
     "                       gradation)\n"
     "  --hessian-of-field NAME  the same with the solution field NAME of --interpolate's\n"

@@ -32,6 +32,7 @@ MetricSourceOptions parse_metric_options(ArgParser& p) {
     throw UsageError{"--error, --complexity and --vertices go with --hessian-of or --hessian-of-field"};
   if (o.bounds.hmin < 0 || !(o.bounds.hmax > 0) || o.bounds.hmin > o.bounds.hmax || !(o.bounds.max_anisotropy >= 1))
     throw UsageError{"bounds: need 0 <= hmin <= hmax and --max-aniso >= 1"};
+  if (norm_p == "inf") o.lp = std::numeric_limits<double>::infinity();
   if (!norm_p.empty() && norm_p != "inf") {
     try {
       o.lp = std::stod(norm_p);

@@ -20,7 +20,7 @@ struct MetricSourceOptions {
   double error = std::numeric_limits<double>::quiet_NaN();
   double complexity = std::numeric_limits<double>::quiet_NaN();
   double vertices = std::numeric_limits<double>::quiet_NaN();
-  double lp = std::numeric_limits<double>::infinity();  // --norm
+  double lp = 2;  // --norm (MetricRecipe's default)
   double error_constant = 2.0 / 9.0;
   MetricBounds bounds;
   int source_count() const {

@@ -134,10 +134,8 @@ void check_recipe(const MetricRecipe& r) {
 
 std::vector<SymTensor3> recipe_hessian(const SurfaceMesh& mesh, const MetricRecipe& r,
                                        const std::vector<int>& origin) {
-  const std::vector<double> f = r.source == MetricRecipe::Source::HessianField
-                                    ? scalar_field_values(mesh, r.field)
-                                    : evaluate_at_vertices(mesh, r.expression, origin);
-  return recover_derivatives(mesh, f).hessian;
+  if (r.source == MetricRecipe::Source::Hessian) return hessian_of_expression(mesh, r.expression, origin);
+  return recover_derivatives(mesh, scalar_field_values(mesh, r.field)).hessian;
 }
 
 MetricResult build_metric(const SurfaceMesh& mesh, const MetricRecipe& r, const std::vector<int>& origin) {

@@ -22,8 +22,8 @@ struct MetricRecipe {
     Iso,            // the isotropic size `iso`
     Size,           // isotropic size h(x,y,z) = `expression` (eq. 3)
     Tensor,         // six components 'm11, m12, m22, m13, m23, m33' = `expression`
-    Hessian,        // Hessian of the function `expression`
-    HessianField,   // Hessian of the scalar solution field `field` of the mesh
+    Hessian,        // Hessian of the function `expression` (hessian_of_expression: exact where smooth)
+    HessianField,   // Hessian of the scalar solution field `field` of the mesh (recovered)
     Curvature,      // principal curvatures for the chordal deviation `hausd`
   };
   Source source = Source::Iso;
@@ -38,8 +38,12 @@ struct MetricRecipe {
   double error = 0;
   double complexity = 0;
   double vertices = 0;
-  double lp = std::numeric_limits<double>::infinity();  // norm of the error (L^p)
-  double error_constant = 2.0 / 9.0;                    // BAMG's constant
+  // Norm of the interpolation error (L^p, p >= 1 or infinity). L^2, the
+  // norm the report's section 7.1 measures: the metric equidistributes the
+  // error, and at a jump the sizes shrink as det^(-1/6) only, so that the
+  // adapt -> re-derive -> adapt cycles settle (cycle_metric_defaults()).
+  double lp = cycle_metric_defaults().p;
+  double error_constant = cycle_metric_defaults().error_constant;  // BAMG's 2/9
 
   MetricBounds bounds;
   // Chordal deviation: the metric is intersected with the curvature metric
@@ -78,7 +82,9 @@ MetricResult build_metric(const SurfaceMesh& mesh, const MetricRecipe& recipe,
 void check_recipe(const MetricRecipe& recipe);
 
 // The tangent Hessian of the recipe's function on `mesh`: of the expression
-// (Source::Hessian) or of the scalar field (Source::HessianField).
+// (Source::Hessian: hessian_of_expression, exact where the function is smooth
+// at the edges' scale, even on two triangles) or recovered from the scalar
+// field's vertex values (Source::HessianField: recover_derivatives).
 std::vector<SymTensor3> recipe_hessian(const SurfaceMesh& mesh, const MetricRecipe& recipe,
                                        const std::vector<int>& vertex_origin = {});
 
