@@ -229,11 +229,10 @@ void EditorSession::set_settings(const MetricSettings& s) {
   e.what = "metric " + std::string(source_name(s.source));
   e.settings_before = settings_;
   e.settings_after = s;
-  for (int v = 0; v < input_->vertex_capacity(); ++v) {
-    if (input_->is_deleted(Vertex(v))) continue;
-    e.vertices.push_back(v);
-    e.before.push_back(metric_[v]);
-    e.after.push_back(m[v]);
+  for (Vertex v : input_->vertices()) {
+    e.vertices.push_back(v.idx);
+    e.before.push_back(metric_[v.idx]);
+    e.after.push_back(m[v.idx]);
   }
   base_metric_ = m;
   metric_painted_ = false;
@@ -293,9 +292,10 @@ void EditorSession::dab(const Vec3& centre, const Vec3& direction) {
   const double r2 = b.radius * b.radius;
   const MetricBounds bounds{settings_.hmin, settings_.hmax, settings_.max_aniso};
   std::vector<std::pair<int, SymTensor3>> updates;
-  for (int v = 0; v < mesh.vertex_capacity(); ++v) {
-    if (mesh.is_deleted(Vertex(v)) || mesh.is_isolated(Vertex(v))) continue;
-    const double d2 = norm2(mesh.position(Vertex(v)) - centre);
+  for (Vertex vertex : mesh.vertices()) {
+    if (mesh.is_isolated(vertex)) continue;
+    const int v = vertex.idx;
+    const double d2 = norm2(mesh.position(vertex) - centre);
     if (d2 >= r2) continue;
     const double s = d2 / r2;
     const double w = std::clamp(b.strength * (1 - s) * (1 - s), 0.0, 1.0);

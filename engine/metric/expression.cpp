@@ -260,9 +260,9 @@ std::vector<SymTensor3> hessian_of_expression(const SurfaceMesh& mesh, const std
   const double floor = 1e-9 * std::max(mesh.bbox().diagonal(), 1e-300);
   std::vector<SymTensor3> H(mesh.vertex_capacity(), SymTensor3());
   std::vector<int> unresolved;
-  for (int i = 0; i < mesh.vertex_capacity(); ++i) {
-    const Vertex v(i);
-    if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+  for (Vertex v : mesh.vertices()) {
+    const int i = v.idx;
+    if (mesh.is_isolated(v)) continue;
     DifferenceStencil d = difference_stencil(mesh, v, normal[i], floor);
     DifferenceResult r, half;
     DifferenceStencil d_half = d;

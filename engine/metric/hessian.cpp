@@ -230,13 +230,13 @@ FitKind fit_at(const SurfaceMesh& mesh, Vertex v, RingCollector& rings, const Ve
 template <class T>
 int fill_unfitted(const SurfaceMesh& mesh, std::vector<T>& values, std::vector<char>& fitted, const T& fallback) {
   int missing = 0;
-  for (int i = 0; i < mesh.vertex_capacity(); ++i)
-    if (!fitted[i] && !mesh.is_deleted(Vertex(i)) && !mesh.is_isolated(Vertex(i))) ++missing;
+  for (Vertex v : mesh.vertices())
+    if (!fitted[v.idx] && !mesh.is_isolated(v)) ++missing;
   for (int sweep = 0, left = missing; left > 0 && sweep < 8; ++sweep) {
     std::vector<int> filled;
-    for (int i = 0; i < mesh.vertex_capacity(); ++i) {
-      const Vertex v(i);
-      if (fitted[i] || mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+    for (Vertex v : mesh.vertices()) {
+      const int i = v.idx;
+      if (fitted[i] || mesh.is_isolated(v)) continue;
       T sum{};
       int n = 0;
       for (Vertex w : one_ring(mesh, v))
@@ -252,8 +252,8 @@ int fill_unfitted(const SurfaceMesh& mesh, std::vector<T>& values, std::vector<c
     for (int i : filled) fitted[i] = 1;
     left -= static_cast<int>(filled.size());
   }
-  for (int i = 0; i < mesh.vertex_capacity(); ++i)
-    if (!fitted[i] && !mesh.is_deleted(Vertex(i)) && !mesh.is_isolated(Vertex(i))) values[i] = fallback;
+  for (Vertex v : mesh.vertices())
+    if (!fitted[v.idx] && !mesh.is_isolated(v)) values[v.idx] = fallback;
   return missing;
 }
 
@@ -264,10 +264,9 @@ double default_hmax(const SurfaceMesh& mesh, double hmax) {
 // Area of the surface around each vertex (a third of its triangles).
 std::vector<double> vertex_areas(const SurfaceMesh& mesh) {
   std::vector<double> a(mesh.vertex_capacity(), 0.0);
-  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-    if (mesh.is_deleted(Triangle(t))) continue;
-    const double at = mesh.triangle_area(Triangle(t)) / 3.0;
-    for (int k = 0; k < 3; ++k) a[mesh.vertex(Triangle(t), k).idx] += at;
+  for (Triangle t : mesh.triangles()) {
+    const double at = mesh.triangle_area(t) / 3.0;
+    for (int k = 0; k < 3; ++k) a[mesh.vertex(t, k).idx] += at;
   }
   return a;
 }
@@ -298,9 +297,9 @@ SymTensor3 tangent_metric(const TangentAbs& t, double scale) {
 std::vector<Vec3> fitted_normals(const SurfaceMesh& mesh, const HessianRecoveryOptions& options) {
   std::vector<Vec3> normal = vertex_normals(mesh);
   RingCollector rings(mesh);
-  for (int i = 0; i < mesh.vertex_capacity(); ++i) {
-    const Vertex v(i);
-    if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+  for (Vertex v : mesh.vertices()) {
+    const int i = v.idx;
+    if (mesh.is_isolated(v)) continue;
     const Vec3 p0 = mesh.position(v), n = normal[i];
     // Heights z = (p - p0).n ~ a1 x + a2 y + ...: the surface's tangent plane
     // is spanned by (1, 0, a1), (0, 1, a2), its normal by (-a1, -a2, 1).
@@ -319,18 +318,19 @@ RecoveredDerivatives recover_derivatives(const SurfaceMesh& mesh, const std::vec
   if (static_cast<int>(f.size()) != mesh.vertex_capacity())
     throw MetricError("Hessian recovery: " + std::to_string(f.size()) + " values for " +
                       std::to_string(mesh.vertex_capacity()) + " vertices");
-  for (int i = 0; i < mesh.vertex_capacity(); ++i)
-    if (!mesh.is_deleted(Vertex(i)) && !std::isfinite(f[i]))
-      throw MetricError("Hessian recovery: value at vertex " + std::to_string(i + 1) + " is " + std::to_string(f[i]));
+  for (Vertex v : mesh.vertices())
+    if (!std::isfinite(f[v.idx]))
+      throw MetricError("Hessian recovery: value at vertex " + std::to_string(v.idx + 1) + " is " +
+                        std::to_string(f[v.idx]));
   RecoveredDerivatives out;
   out.normal = fitted_normals(mesh, options);
   out.gradient.assign(mesh.vertex_capacity(), Vec3());
   out.hessian.assign(mesh.vertex_capacity(), SymTensor3());
   RingCollector rings(mesh);
   std::vector<char> fitted(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
-  for (int i = 0; i < mesh.vertex_capacity(); ++i) {
-    const Vertex v(i);
-    if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+  for (Vertex v : mesh.vertices()) {
+    const int i = v.idx;
+    if (mesh.is_isolated(v)) continue;
     const FitKind kind = fit_at(mesh, v, rings, out.normal[i], options, [&](Vertex w) { return f[w.idx]; },
                                 out.gradient[i], out.hessian[i]);
     fitted[i] = kind != FitKind::None;
@@ -348,9 +348,9 @@ std::vector<SymTensor3> recover_curvature(const SurfaceMesh& mesh, const Hessian
   std::vector<SymTensor3> out(mesh.vertex_capacity());
   RingCollector rings(mesh);
   std::vector<char> fitted(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
-  for (int i = 0; i < mesh.vertex_capacity(); ++i) {
-    const Vertex v(i);
-    if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+  for (Vertex v : mesh.vertices()) {
+    const int i = v.idx;
+    if (mesh.is_isolated(v)) continue;
     const Vec3 p0 = mesh.position(v), n = normal[i];
     Vec3 g;
     // Depth below the tangent plane: a sphere with outward normals has
@@ -444,9 +444,8 @@ MetricField curvature_metric(const SurfaceMesh& mesh, double hausd, const Metric
   const std::vector<Vec3> normal = fitted_normals(mesh, options);
   const double floor = 8.0 * hausd / (bounds.hmax * bounds.hmax);  // |kappa| giving hmax
   MetricField M(mesh.vertex_capacity(), SymTensor3::identity());
-  for (int i = 0; i < mesh.vertex_capacity(); ++i)
-    if (!mesh.is_deleted(Vertex(i)))
-      M[i] = clamp_metric(tangent_metric(tangent_abs(II[i], normal[i], floor), 1.0 / (8.0 * hausd)), bounds);
+  for (Vertex v : mesh.vertices())
+    M[v.idx] = clamp_metric(tangent_metric(tangent_abs(II[v.idx], normal[v.idx], floor), 1.0 / (8.0 * hausd)), bounds);
   return M;
 }
 

@@ -27,8 +27,7 @@ std::vector<double> scalar_field_values(const SurfaceMesh& mesh, const std::stri
     throw MetricError("the solution field '" + name + "' is not scalar: its Hessian is not defined");
   const Property<FieldValue> p = mesh.get_field(name);
   std::vector<double> f(static_cast<std::size_t>(mesh.vertex_capacity()), 0.0);
-  for (int v = 0; v < mesh.vertex_capacity(); ++v)
-    if (!mesh.is_deleted(Vertex(v))) f[v] = p[Vertex(v)][0];
+  for (Vertex v : mesh.vertices()) f[v.idx] = p[v][0];
   return f;
 }
 
@@ -100,8 +99,7 @@ GradationReport finish_metric(const SurfaceMesh& mesh, const MetricRecipe& r, Me
                               const MetricField& deviation_metric) {
   if (has_bounds(r.bounds)) clamp_metric_field(mesh, M, r.bounds);
   if (!deviation_metric.empty())
-    for (int v = 0; v < mesh.vertex_capacity(); ++v)
-      if (!mesh.is_deleted(Vertex(v))) M[v] = intersect(M[v], deviation_metric[v]);
+    for (Vertex v : mesh.vertices()) M[v.idx] = intersect(M[v.idx], deviation_metric[v.idx]);
   if (!(r.hgrad > 1)) return {};
   GradationOptions g;
   g.ratio = r.hgrad;
@@ -170,9 +168,8 @@ MetricResult build_metric(const SurfaceMesh& mesh, const MetricRecipe& r, const 
 
 double estimated_interpolation_error(const SurfaceMesh& mesh, const std::vector<SymTensor3>& hessian, double lp) {
   double sum = 0, worst = 0;
-  for (int t = 0; t < mesh.triangle_capacity(); ++t) {
-    if (mesh.is_deleted(Triangle(t))) continue;
-    const int* v = mesh.triangle_vertices(Triangle(t));
+  for (Triangle t : mesh.triangles()) {
+    const int* v = mesh.triangle_vertices(t);
     SymTensor3 H{};
     for (int k = 0; k < 3; ++k)
       for (int i = 0; i < 6; ++i) H.m[i] += hessian[v[k]].m[i] / 3.0;

@@ -64,13 +64,16 @@ double metric_complexity(const SurfaceMesh& mesh, const MetricField& metric) {
 double predicted_vertices(const SurfaceMesh& mesh, const MetricField& metric) {
   double boundary = 0;
   int corners = 0, boundary_edges = 0;
-  for (int c = 0; c < 3 * mesh.triangle_capacity(); ++c) {
-    if (mesh.is_deleted(Triangle(c / 3))) continue;
-    ++corners;
-    if (!mesh.is_boundary_edge(Corner(c))) continue;
-    ++boundary_edges;
-    const Vertex a = mesh.vertex(SurfaceMesh::next(Corner(c))), b = mesh.vertex(SurfaceMesh::prev(Corner(c)));
-    boundary += edge_length(metric[a.idx], metric[b.idx], mesh.position(b) - mesh.position(a), LengthFormula::LinearMetric);
+  for (Triangle t : mesh.triangles()) {
+    for (int k = 0; k < 3; ++k) {
+      const Corner c = SurfaceMesh::corner(t, k);
+      ++corners;
+      if (!mesh.is_boundary_edge(c)) continue;
+      ++boundary_edges;
+      const Vertex a = mesh.vertex(SurfaceMesh::next(c)), b = mesh.vertex(SurfaceMesh::prev(c));
+      boundary += edge_length(metric[a.idx], metric[b.idx], mesh.position(b) - mesh.position(a),
+                              LengthFormula::LinearMetric);
+    }
   }
   const int edges = (corners + boundary_edges) / 2;
   const int euler = mesh.n_vertices() - edges + mesh.n_triangles();

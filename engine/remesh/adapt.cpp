@@ -40,8 +40,7 @@ class StepTimer {
 MetricField vertex_metric(const SurfaceMesh& t1) {
   const Property<SymTensor3> p = t1.get_vertex_property<SymTensor3>("remesh:metric");
   MetricField m(static_cast<std::size_t>(t1.vertex_capacity()), SymTensor3::identity(1.0));
-  for (int v = 0; v < t1.vertex_capacity(); ++v)
-    if (!t1.is_deleted(Vertex(v))) m[v] = p[Vertex(v)];
+  for (Vertex v : t1.vertices()) m[v.idx] = p[v];
   return m;
 }
 
