@@ -306,7 +306,7 @@ void EditorSession::dab(const Vec3& centre, const Vec3& direction) {
       // Log-Euclidean mean of the one-ring (and the vertex).
       SymTensor3 sum = tensor_log(metric_[v]);
       int n = 1;
-      for (Corner c : mesh.fan(Vertex(v))) {
+      for (Corner c : mesh.fan_corners(Vertex(v))) {
         const SymTensor3 l = tensor_log(metric_[mesh.vertex(SurfaceMesh::next(c)).idx]);
         for (int i = 0; i < 6; ++i) sum.m[i] += l.m[i];
         ++n;

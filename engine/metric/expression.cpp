@@ -76,7 +76,7 @@ DifferenceStencil difference_stencil(const SurfaceMesh& mesh, Vertex v, const Ve
   const Vec3 p0 = mesh.position(v);
   std::vector<std::array<double, 2>> edges;
   SymTensor2 spread;
-  for (Vertex w : one_ring(mesh, v)) {
+  for (Vertex w : mesh.ring_vertices(v)) {
     const Vec3 e = mesh.position(w) - p0;
     const double a = dot(e, fr[0]), b = dot(e, fr[1]);
     edges.push_back({a, b});
@@ -131,7 +131,7 @@ std::vector<int> within_rings(const SurfaceMesh& mesh, const std::vector<int>& s
   for (int r = 0; r < rings; ++r) {
     std::vector<int> next;
     for (int i : front)
-      for (Vertex w : one_ring(mesh, Vertex(i)))
+      for (Vertex w : mesh.ring_vertices(Vertex(i)))
         if (!in[w.idx]) {
           in[w.idx] = 1;
           next.push_back(w.idx);

@@ -33,7 +33,7 @@ class RingCollector {
 
  private:
   void add_ring_of(Vertex u) {
-    for (Corner c : mesh_.fan(u))
+    for (Corner c : mesh_.fan_corners(u))
       for (Vertex w : {mesh_.vertex(SurfaceMesh::next(c)), mesh_.vertex(SurfaceMesh::prev(c))})
         if (!seen_[w.idx]) {
           seen_[w.idx] = 1;
@@ -239,7 +239,7 @@ int fill_unfitted(const SurfaceMesh& mesh, std::vector<T>& values, std::vector<c
       if (fitted[i] || mesh.is_isolated(v)) continue;
       T sum{};
       int n = 0;
-      for (Vertex w : one_ring(mesh, v))
+      for (Vertex w : mesh.ring_vertices(v))
         if (fitted[w.idx]) {
           sum = sum + values[w.idx];
           ++n;

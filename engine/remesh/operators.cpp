@@ -353,7 +353,7 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
   // The new triangles, for check_surface_side after the cheaper filters.
   std::vector<TriangleView> new_triangles;
   for (Vertex w : {r, k}) {
-    for (Corner x : mesh.fan(w)) {
+    for (Corner x : mesh.fan_corners(w)) {
       const Triangle t = M::triangle(x);
       const bool has_r = mesh.corner_of(t, r).is_valid(), has_k = mesh.corner_of(t, k).is_valid();
       if (w == k && has_r) continue;  // counted once from r's fan
@@ -372,7 +372,7 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
   // New or changed edges no longer than lmax.
   for (Vertex w : {r, k}) {
     if (w == k && !moves) continue;
-    for (Vertex n : one_ring(mesh, w)) {
+    for (Vertex n : mesh.ring_vertices(w)) {
       if (n == r || n == k) continue;
       if (m.length(p.position, p.values.metric, mesh.position(n), m.metric(n)) > o.lmax) return Rejection::Length;
     }
