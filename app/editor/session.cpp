@@ -112,13 +112,7 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
   geometry_ = start_geometry(*input_, adapt_settings_);
   vertex_origin_ = report.vertex_origin;
   mesh_path_ = mesh_path;
-  normals_.clear();
-  curvature_.clear();
-  undo_.clear();
-  redo_.clear();
-  stroke_.reset();
-  selection_ = {};
-  scrub_ = -1;
+  forget_input_state();
   MetricSettings s = settings_;
   MetricField m;
   if (!sol_path.empty()) {
@@ -441,6 +435,16 @@ void EditorSession::run(int max_passes) {
   changed();
 }
 
+void EditorSession::forget_input_state() {
+  normals_.clear();
+  curvature_.clear();
+  undo_.clear();
+  redo_.clear();
+  stroke_.reset();
+  selection_ = {};
+  scrub_ = -1;
+}
+
 int EditorSession::next_cycle() {
   if (!input_) throw Error("no mesh: open one first");
   if (stroke_) end_stroke();
@@ -467,12 +471,7 @@ int EditorSession::next_cycle() {
   input_ = std::move(t1);
   vertex_origin_.clear();  // T_0 is no file's mesh any more
   ++cycle_;
-  normals_.clear();
-  curvature_.clear();
-  undo_.clear();
-  redo_.clear();
-  selection_ = {};
-  scrub_ = -1;
+  forget_input_state();
   base_metric_ = m;
   apply_metric(std::move(m), settings_, true);
   log("cycle");

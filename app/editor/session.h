@@ -175,6 +175,9 @@ class EditorSession {
   void open_stroke();   // begin_stroke / end_stroke without the journal lines
   void close_stroke();
   void changed();
+  // A new T_0 (open, next_cycle): what was computed or edited on the old
+  // one goes (cached normals and curvatures, undo and redo, the selection).
+  void forget_input_state();
   // The engine's metric recipe of the settings (`loaded`: the metric of a
   // Sol source already read, else the file is read).
   MetricRecipe metric_recipe(const MetricSettings& s, MetricField loaded = {}) const;
