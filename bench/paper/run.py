@@ -535,6 +535,55 @@ def cycle_by_cycle(ctx, start, case, error, cycles, prefix, extra=()):
     return rows
 
 
+def loop_vertices(ctx, start, case, error, cycles, extra=()):
+    """Vertex count after `cycles` cycles of the loop of cycle_by_cycle (no
+    measure), in a scratch directory."""
+    prev = start
+    for k in range(1, cycles + 1):
+        out = ctx.path("7.1", "calibrate", "%s_cycle%d.mesh" % (case, k))
+        run(ctx, [ctx.anisurf, "adapt", prev, "--hessian-of", F_CASE[case], "--error", error,
+                  "--cycles", "1", "-hgrad", "-1", "-v", "0", *extra, "-o", out])
+        prev = out
+    return mesh_counts(prev)[0]
+
+
+def calibrate_error(ctx, start, case, cycles, target, guess, extra=(), tol=0.07, tries=7):
+    """The error target whose loop ends (after `cycles` cycles) with a vertex
+    count in [target (1 - tol), target], the report's count for that table: a
+    secant on log V against log E from `guess` (slope clamped to [-3, -0.3];
+    V ~ 1/E to start). Returns (E, [(E, V) tried]); when no try lands in the
+    window, the largest count not above target (else the smallest count)."""
+    aim = target * (1.0 - tol / 2.0)
+    tried = []
+    e = guess
+    for _ in range(tries):
+        v = loop_vertices(ctx, start, case, e, cycles, extra)
+        tried.append((e, v))
+        if target * (1.0 - tol) <= v <= target:
+            return e, tried
+        slope = -1.0
+        usable = [(x, y) for x, y in tried if y > 0]
+        if len(usable) >= 2:
+            (e1, v1), (e2, v2) = sorted(usable[-2:])
+            if e1 != e2 and v1 != v2:
+                slope = (math.log(v2) - math.log(v1)) / (math.log(e2) - math.log(e1))
+                slope = max(-3.0, min(-0.3, slope))
+        e = e * math.exp((math.log(aim) - math.log(max(v, 1))) / slope)
+    below = [t for t in tried if t[1] <= target]
+    pick = max(below, key=lambda t: t[1]) if below else min(tried, key=lambda t: t[1])
+    return pick[0], tried
+
+
+def choose_error(ctx, start, case, given, cycles, target, guess, extra=()):
+    """The error target of a case: the one given, else calibrated on the report's
+    vertex count (calibrate_error). Returns (E, a sentence saying how)."""
+    if given is not None:
+        return given, "error %g (given)" % given
+    e, tried = calibrate_error(ctx, start, case, cycles, target, guess, extra)
+    return e, "error %.4g, calibrated for <= %d V after %d cycles (tries: %s)" % (
+        e, target, cycles, ", ".join("%.4g -> %d V" % t for t in tried))
+
+
 def print_beside(report_rows, ours_rows, ours_extra_header=("time s", "% in band")):
     """Prints the report's rows (name, V, T, L2) beside ours, row by row."""
     header = ["mesh", "report V", "report T", "report L2", "ours V", "ours T", "ours L2"] + list(ours_extra_header)
@@ -552,7 +601,8 @@ def print_beside(report_rows, ours_rows, ours_extra_header=("time s", "% in band
 
 def section_71(ctx, opts):
     """Section 7.1: cases 1-3 on the unit square, the isotropic table 2, case 3 against mmg2d."""
-    summary = []
+    summary, times = [], []
+    t0 = time.monotonic()
     # Case 1, anisotropic, from the 2-triangle square
     sq2 = ctx.path("7.1", "square_2tri.mesh")
     unit_square_two_triangles(sq2)
@@ -577,6 +627,20 @@ def section_71(ctx, opts):
                     "cycle 2: %s V, L2 %s; --cycles 6: %d V, L2 %.4e" % (
                         rows1[2][1] if len(rows1) > 2 else "-", sci(rows1[2][3]) if len(rows1) > 2 else "-",
                         v6, e6["L2"])])
+
+    # Case 1 from a grid: the Hessian recovered with full vertex rings (a diagnostic
+    # beside the 2-triangle start, where only 4 values are known)
+    grid11 = ctx.path("7.1", "square_grid11.mesh")
+    unit_square_grid(grid11, 11)
+    print("### 7.1 case 1 from an 11 x 11 grid (not in the report: the same loop where the Hessian "
+          "has full vertex rings), error %g\n" % opts.case1_error)
+    rows1g = cycle_by_cycle(ctx, grid11, "case1", opts.case1_error, 3, "case1_grid")
+    print_beside([], rows1g)
+    b = min(rows1g[1:], key=lambda r: r[3])
+    summary.append(["case 1 from an 11 x 11 grid (lowest L2 of 3 cycles)", "-",
+                    "%s: %d V, L2 %.4e; last: %d V, L2 %.4e" % (b[0], b[1], b[3], rows1g[-1][1], rows1g[-1][3])])
+    times.append("case 1 %.1f s" % (time.monotonic() - t0))
+    t0 = time.monotonic()
 
     # Case 1, isotropic (table 2): uniform sizes giving the report's vertex counts
     print("### 7.1 case 1: isotropic refinement (table 2), `anisurf adapt --size H` from the 2-triangle square\n")
@@ -605,37 +669,44 @@ def section_71(ctx, opts):
                     "%s / %d = %s" % (fmt(v_iso_needed, "%.0f"), v6,
                                       fmt(v_iso_needed / v6 if v_iso_needed else None, "%.1f"))])
 
+    times.append("table 2 %.1f s" % (time.monotonic() - t0))
+    t0 = time.monotonic()
+
     # Case 2, discontinuous, from a structured ~151-vertex grid
     grid = ctx.path("7.1", "square_grid12.mesh")
     unit_square_grid(grid, 12)
-    print("### 7.1 case 2: discontinuous f (table 3); error %g, cycle by cycle from a 12 x 12 grid\n"
-          % opts.case2_error)
-    rows2 = cycle_by_cycle(ctx, grid, "case2", opts.case2_error, opts.case2_cycles, "case2")
+    e2, how2 = choose_error(ctx, grid, "case2", opts.case2_error, opts.case2_cycles, REPORT_T3[-1][1], 0.05)
+    print("### 7.1 case 2: discontinuous f (table 3); %s; cycle by cycle from a 12 x 12 grid\n" % how2)
+    rows2 = cycle_by_cycle(ctx, grid, "case2", e2, opts.case2_cycles, "case2")
     print_beside(REPORT_T3, rows2)
     hits = [r for r in rows2[1:] if r[1] <= CHECK_CASE2_V and r[3] <= CHECK_CASE2_L2]
-    add_check(ctx, "7.1 case 2 (error %g, %d cycles): a cycle with V <= %d and L2 <= %g"
-              % (opts.case2_error, opts.case2_cycles, CHECK_CASE2_V, CHECK_CASE2_L2), bool(hits),
+    add_check(ctx, "7.1 case 2 (error %.4g, %d cycles): a cycle with V <= %d and L2 <= %g"
+              % (e2, opts.case2_cycles, CHECK_CASE2_V, CHECK_CASE2_L2), bool(hits),
               "; ".join("%s: %d V, L2 %.4e" % (r[0], r[1], r[3]) for r in rows2[1:]))
     shot(ctx, rows2_last_mesh(ctx, "case2", opts.case2_cycles), ctx.path("7.1", "case2_final.png"),
          "--view", "front", "--ortho")
     r3 = rows2[3] if len(rows2) > 3 else rows2[-1]
     summary.append(["case 2, 3rd adapted", "987 V, L2 5.9563e-2", "%s: %d V, L2 %.4e; last, %s: %d V, L2 %.4e"
                     % (r3[0], r3[1], r3[3], rows2[-1][0], rows2[-1][1], rows2[-1][3])])
-    if opts.case2_norm2_error > 0:
-        print("### 7.1 case 2 with the L2-optimal metric (`--norm 2`), error %g\n" % opts.case2_norm2_error)
-        rows2b = cycle_by_cycle(ctx, grid, "case2", opts.case2_norm2_error, opts.case2_cycles, "case2_norm2",
-                                ("--norm", "2"))
+    if not opts.no_norm2:
+        e2b, how2b = choose_error(ctx, grid, "case2", opts.case2_norm2_error, opts.case2_cycles, REPORT_T3[-1][1],
+                                  0.005, ("--norm", "2"))
+        print("### 7.1 case 2 with the L2-optimal metric (`--norm 2`), %s\n" % how2b)
+        rows2b = cycle_by_cycle(ctx, grid, "case2", e2b, opts.case2_cycles, "case2_norm2", ("--norm", "2"))
         print_beside(REPORT_T3, rows2b)
         b = min(rows2b[1:], key=lambda r: r[3])
         summary.append(["case 2, --norm 2 (lowest L2 of the cycles)", "987 V, L2 5.9563e-2",
                         "%s: %d V, L2 %.4e" % (b[0], b[1], b[3])])
 
+    times.append("case 2 %.1f s" % (time.monotonic() - t0))
+    t0 = time.monotonic()
+
     # Case 3, two subdomains
     qd = ctx.path("7.1", "quarter_disc.mesh")
     quarter_disc_square(qd)
-    print("### 7.1 case 3: two subdomains (table 4); error %g, cycle by cycle from the polar-like mesh\n"
-          % opts.case3_error)
-    rows3 = cycle_by_cycle(ctx, qd, "case3", opts.case3_error, opts.case3_cycles, "case3")
+    e3, how3 = choose_error(ctx, qd, "case3", opts.case3_error, opts.case3_cycles, REPORT_T4[-1][1], 0.0007)
+    print("### 7.1 case 3: two subdomains (table 4); %s; cycle by cycle from the polar-like mesh\n" % how3)
+    rows3 = cycle_by_cycle(ctx, qd, "case3", e3, opts.case3_cycles, "case3")
     print_beside(REPORT_T4, rows3)
     last3 = ctx.path("7.1", "case3_cycle%d.mesh" % opts.case3_cycles)
     dev = interface_deviation(last3)
@@ -645,7 +716,11 @@ def section_71(ctx, opts):
     r3 = rows3[3] if len(rows3) > 3 else rows3[-1]
     summary.append(["case 3, 3rd adapted", "1633 V, L2 4.7901e-3", "%s: %d V, L2 %.4e" % (r3[0], r3[1], r3[3])])
 
-    summary += case3_against_mmg2d(ctx, qd, opts)
+    times.append("case 3 %.1f s" % (time.monotonic() - t0))
+    t0 = time.monotonic()
+    summary += case3_against_mmg2d(ctx, qd, e3, opts)
+    times.append("case 3 against mmg2d %.1f s" % (time.monotonic() - t0))
+    summary.append(["times (runs and measures)", "-", ", ".join(times)])
     ctx.summary["7.1"] = (["quantity", "report", "ours"], summary)
 
 
@@ -693,7 +768,7 @@ def mmg2d_cycle_by_cycle(ctx, start, case, error, cycles, prefix):
     return rows
 
 
-def case3_against_mmg2d(ctx, start, opts):
+def case3_against_mmg2d(ctx, start, e3, opts):
     """Case 3 with anisurf and with mmg2d on the same metrics at a few error
     targets: V and L2 of the last cycle, and the ratio of the errors at equal
     vertex count (mmg2d's error interpolated in log-log at anisurf's count).
@@ -702,7 +777,7 @@ def case3_against_mmg2d(ctx, start, opts):
         print("### 7.1 case 3 against mmg2d: skipped (no mmg2d executable%s; give --mmg2d PATH)\n"
               % (" at " + opts.mmg2d if opts.mmg2d else ""))
         return [["case 3 vs mmg2d", "-", "skipped: no mmg2d"]]
-    errors = [opts.case3_error * f for f in (4.0, 2.0, 1.0, 0.5)]
+    errors = [e3 * f for f in (4.0, 2.0, 1.0, 0.5)]
     print("### 7.1 case 3 against mmg2d (%s) on the same metrics, %d cycles each\n" % (opts.mmg2d, opts.case3_cycles))
     ours, theirs = [], []
     for e in errors:
@@ -733,7 +808,7 @@ def case3_against_mmg2d(ctx, start, opts):
         print("L2 ratio anisurf / mmg2d at equal vertex count (log-log, interpolated points only): "
               "best %.3f, worst %.3f, geometric mean %.3f\n"
               % (min(ratios), max(ratios), math.exp(sum(math.log(r) for r in ratios) / len(ratios))))
-    shot(ctx, ctx.path("7.1", "mmg2d", "case3_E%g_cycle%d.mesh" % (opts.case3_error, opts.case3_cycles)),
+    shot(ctx, ctx.path("7.1", "mmg2d", "case3_E%g_cycle%d.mesh" % (e3, opts.case3_cycles)),
          ctx.path("7.1", "case3_mmg2d_final.png"), "--view", "front", "--ortho", "--color", "ref")
     worst = max(ratios) if ratios else None
     gmean = math.exp(sum(math.log(r) for r in ratios) / len(ratios)) if ratios else None
@@ -938,12 +1013,14 @@ def section_74(ctx, opts):
         dmax = max(d["vert_max"], d["mid_max"], d["cen_max"]) if d else None
         dmean = d.get("cen_mean") if d else None
         rows.append([name, "%d V / %d T" % REPORT_74[1], v, t, "%.2f" % dt, sci(dmax), sci(dmean),
-                     sci(dmax / diag) if dmax is not None else "-"])
+                     sci(dmax / diag) if dmax is not None else "-",
+                     fmt(dmax / hausd, "%.2f") if dmax is not None else "-"])
         summary.append(["falcon %s" % name, "%d V / %d T" % REPORT_74[1],
-                        "%d V / %d T, %.2f s, max distance to input %s" % (v, t, dt, sci(dmax))])
+                        "%d V / %d T, %.2f s, max distance to input %s (%s D)"
+                        % (v, t, dt, sci(dmax), fmt(dmax / hausd if dmax is not None else None, "%.2f"))])
         shot(ctx, out, ctx.path("7.4", os.path.basename(out)[:-5] + ".png"))
     table(["run", "report", "ours V", "ours T", "time s", "max distance to input (surfdist.py)",
-           "mean centroid distance", "max / bbox diagonal"], rows)
+           "mean centroid distance", "max / bbox diagonal", "max / D"], rows)
     ctx.summary["7.4"] = (["quantity", "report", "ours"], summary)
 
 
@@ -969,11 +1046,14 @@ def parse_args(argv):
     ap.add_argument("--no-shots", action="store_true", help="no pictures")
     ap.add_argument("--case1-error", type=float, default=0.01)
     ap.add_argument("--case1-cycles", type=int, default=6)
-    ap.add_argument("--case2-error", type=float, default=0.05)
+    ap.add_argument("--case2-error", type=float, default=None,
+                    help="default: calibrated for the report's 987 V after --case2-cycles cycles")
     ap.add_argument("--case2-cycles", type=int, default=5)
-    ap.add_argument("--case2-norm2-error", type=float, default=0.01,
-                    help="case 2 again with the L2-optimal metric (--norm 2) at this error; 0: not run")
-    ap.add_argument("--case3-error", type=float, default=0.0007)
+    ap.add_argument("--case2-norm2-error", type=float, default=None,
+                    help="case 2 again with the L2-optimal metric (--norm 2); default: calibrated as case 2")
+    ap.add_argument("--no-norm2", action="store_true", help="no case 2 with --norm 2")
+    ap.add_argument("--case3-error", type=float, default=None,
+                    help="default: calibrated for the report's 1633 V after --case3-cycles cycles")
     ap.add_argument("--case3-cycles", type=int, default=3)
     return ap.parse_args(argv)
 
