@@ -22,7 +22,6 @@ import json
 import math
 import os
 import re
-import shutil
 import subprocess
 import sys
 import time
@@ -644,9 +643,8 @@ def section_71(ctx, opts):
 
     # Case 1, isotropic (table 2): uniform sizes giving the report's vertex counts
     print("### 7.1 case 1: isotropic refinement (table 2), `anisurf adapt --size H` from the 2-triangle square\n")
-    iso_rows = [("initial mesh", 4, 2, REPORT_T1[0][3], None, None)]
     e_init = l2_error(ctx, sq2, "case1")
-    iso_rows[0] = ("initial mesh", e_init["vertices"], e_init["triangles"], e_init["L2"], None, None)
+    iso_rows = [("initial mesh", e_init["vertices"], e_init["triangles"], e_init["L2"], None, None)]
     for k, (_, v_rep, _, _) in enumerate(REPORT_T2[1:], start=1):
         h = iso_size_for_vertices(v_rep, 1.0, 4.0, 1)
         out = ctx.path("7.1", "case1_iso%d.mesh" % k)
@@ -843,7 +841,7 @@ def section_72(ctx, opts):
     for (name, rv, rt, rinf, rl2), mesh, sec in zip(REPORT_T5, (hemi, out), (None, dt)):
         m = read_mesh(mesh)
         linf_eval = eval_sphere(ctx, mesh)
-        linf_q, l2, area = sphere_errors(m)
+        _, l2, area = sphere_errors(m)
         measured.append((linf_eval, l2))
         rows.append([name, rv, rt, sci(rinf), sci(rl2), len(m["verts"]), len(m["tris"]), sci(linf_eval),
                      sci(l2), sci(l2 / math.sqrt(area)), fmt(sec, "%.2f")])
