@@ -856,8 +856,8 @@ def section_72(ctx, opts):
     our_inf, our_l2 = measured[0][0] / measured[1][0], measured[0][1] / measured[1][1]
     print("our sphere has radius 1, the report's radius is not given: compare the reductions initial / final: "
           "Linf report %.2f ours %.2f, L2 report %.2f ours %.2f\n" % (rep_inf, our_inf, rep_l2, our_l2))
-    shot(ctx, hemi, ctx.path("7.2", "hemi_initial.png"))
-    shot(ctx, out, ctx.path("7.2", "hemi_refined.png"))
+    shot(ctx, hemi, ctx.path("7.2", "hemi_initial.png"), "--up", "z")
+    shot(ctx, out, ctx.path("7.2", "hemi_refined.png"), "--up", "z")
     ctx.summary["7.2"] = (["quantity", "report", "ours"], [
         ["final V / T", "995 / 1892", "%d / %d" % (v, t)],
         ["Linf reduction initial / final", "%.2f" % rep_inf, "%.2f (%.3e -> %.3e)" % (our_inf, *[x[0] for x in measured])],
