@@ -682,14 +682,23 @@ def section_71(ctx, opts):
     rows2 = cycle_by_cycle(ctx, grid, "case2", e2, opts.case2_cycles, "case2")
     print_beside(REPORT_T3, rows2)
     hits = [r for r in rows2[1:] if r[1] <= CHECK_CASE2_V and r[3] <= CHECK_CASE2_L2]
-    add_check(ctx, "7.1 case 2 (error %.4g, %d cycles): a cycle with V <= %d and L2 <= %g"
-              % (e2, opts.case2_cycles, CHECK_CASE2_V, CHECK_CASE2_L2), bool(hits),
-              "; ".join("%s: %d V, L2 %.4e" % (r[0], r[1], r[3]) for r in rows2[1:]))
+    check_figures = "; ".join("%s: %d V, L2 %.4e" % (r[0], r[1], r[3]) for r in rows2[1:])
     shot(ctx, rows2_last_mesh(ctx, "case2", opts.case2_cycles), ctx.path("7.1", "case2_final.png"),
          "--view", "front", "--ortho")
     r3 = rows2[3] if len(rows2) > 3 else rows2[-1]
-    summary.append(["case 2, 3rd adapted", "987 V, L2 5.9563e-2", "%s: %d V, L2 %.4e; last, %s: %d V, L2 %.4e"
-                    % (r3[0], r3[1], r3[3], rows2[-1][0], rows2[-1][1], rows2[-1][3])])
+    summary.append(["case 2, 3rd adapted", "987 V, L2 5.9563e-2", "%s: %d V, L2 %.4e" % (r3[0], r3[1], r3[3])])
+    if opts.case2_more_cycles > opts.case2_cycles:
+        # the same loop given more cycles, its error target calibrated for the same final count
+        n = opts.case2_more_cycles
+        e2m, how2m = choose_error(ctx, grid, "case2", None, n, REPORT_T3[-1][1], 2 * e2)
+        print("### 7.1 case 2 in %d cycles (the report: 3), %s\n" % (n, how2m))
+        rows2m = cycle_by_cycle(ctx, grid, "case2", e2m, n, "case2_more")
+        print_beside(REPORT_T3, rows2m)
+        summary.append(["case 2 in %d cycles, last" % n, "987 V, L2 5.9563e-2 (3 cycles)",
+                        "%d V, L2 %.4e" % (rows2m[-1][1], rows2m[-1][3])])
+        check_figures += "; in %d cycles: %d V, L2 %.4e" % (n, rows2m[-1][1], rows2m[-1][3])
+    add_check(ctx, "7.1 case 2 (error %.4g, %d cycles as the report's): a cycle with V <= %d and L2 <= %g"
+              % (e2, opts.case2_cycles, CHECK_CASE2_V, CHECK_CASE2_L2), bool(hits), check_figures)
     if not opts.no_norm2:
         e2b, how2b = choose_error(ctx, grid, "case2", opts.case2_norm2_error, opts.case2_cycles, REPORT_T3[-1][1],
                                   0.005, ("--norm", "2"))
@@ -1078,8 +1087,9 @@ def parse_args(argv):
     ap.add_argument("--case1-cycles", type=int, default=6, help="case 1's cycles (the check's 6)")
     ap.add_argument("--case2-error", type=float, default=None,
                     help="default: calibrated for the report's 987 V after --case2-cycles cycles")
-    ap.add_argument("--case2-cycles", type=int, default=5,
-                    help="the report's table 3 has 3; with 5 the loop meets its count with a larger error target")
+    ap.add_argument("--case2-cycles", type=int, default=3, help="as the report's table 3")
+    ap.add_argument("--case2-more-cycles", type=int, default=5,
+                    help="case 2 again in this many cycles, calibrated for the same final count (0: not run)")
     ap.add_argument("--case2-norm2-error", type=float, default=None,
                     help="case 2 again with the L2-optimal metric (--norm 2); default: calibrated as case 2")
     ap.add_argument("--no-norm2", action="store_true", help="no case 2 with --norm 2")
