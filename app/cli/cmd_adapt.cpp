@@ -294,8 +294,10 @@ void write_adapt_outputs(const AdaptCommandLine& c, const remesh::AdaptResult& r
                          const std::vector<std::string>& interpolated_names, std::string* fields_path) {
   const SurfaceMesh& t1 = r.mesh;
   save_mesh(c.out, t1);
-  FieldData mf;
+  std::vector<FieldData> metric(1);  // one field, written without a copy of its values
+  FieldData& mf = metric.front();
   mf.info = FieldInfo{"metric", FieldKind::Tensor, 6};
+  mf.values.reserve(6 * static_cast<std::size_t>(t1.vertex_capacity()));
   for (int v = 0; v < t1.vertex_capacity(); ++v) mf.values.insert(mf.values.end(), r.metric[v].m.begin(), r.metric[v].m.end());
   std::vector<FieldData> interpolated;
   for (const FieldInfo& info : t1.fields()) {
@@ -308,7 +310,7 @@ void write_adapt_outputs(const AdaptCommandLine& c, const remesh::AdaptResult& r
       f.values.insert(f.values.end(), prop[Vertex(v)].begin(), prop[Vertex(v)].begin() + info.ncomp);
     interpolated.push_back(std::move(f));
   }
-  write_sol(sol_path_for(c.out), {mf}, t1.vertex_capacity(), 3);
+  write_sol(sol_path_for(c.out), metric, t1.vertex_capacity(), 3);
   if (!interpolated.empty()) {
     *fields_path = fields_path_for(c.out);
     write_sol(*fields_path, interpolated, t1.vertex_capacity(), 3);
@@ -348,7 +350,8 @@ void write_report(const AdaptCommandLine& c, const remesh::AdaptResult& r) {
   f.commit();
 }
 
-void print_summary(const AdaptCommandLine& c, const remesh::AdaptResult& r, const std::string& fields_path) {
+void print_summary(const AdaptCommandLine& c, int cycles, const remesh::AdaptResult& r,
+                   const std::string& fields_path) {
   const remesh::PassReport& initial = r.cycles.front().initial;
   const remesh::PassReport& final_state = r.cycles.back().final;
   int splits = 0, collapses = 0, swaps = 0, moves = 0, removed = 0;
@@ -375,8 +378,8 @@ void print_summary(const AdaptCommandLine& c, const remesh::AdaptResult& r, cons
   std::printf("c_K mean     %9.3f   %9.3f\n", initial.q_mean, final_state.q_mean);
   std::printf("inverted     %9d   %9d   (triangles facing against the surface normal)\n",
               r.cycles.front().inverted_before, r.cycles.back().inverted_after);
-  if (r.cycles.size() > 1 || c.options.cycles > 1)
-    std::printf("cycles       %zu of %d%s\n", r.cycles.size(), c.options.cycles,
+  if (r.cycles.size() > 1 || cycles > 1)
+    std::printf("cycles       %zu of %d%s\n", r.cycles.size(), cycles,
                 r.fixed_point ? " (fixed point: the vertex count changed by less than the tolerance)" : "");
   std::printf("operations   %d splits, %d collapses, %d swaps, %d moves, %d removed (valence < 4)\n", splits,
               collapses, swaps, moves, removed);
@@ -409,6 +412,7 @@ int run_adapt(const std::vector<std::string>& args) {
   }
   const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_read).count();
   const int verbose = c.verbose;
+  const int cycles = c.options.cycles;
   if (verbose >= 2) std::fprintf(stderr, "  setup: %-45s %.2f s\n", "read the mesh", read_seconds);
 
   // Progress on stderr (cli/progress.h): one line per round (-v 1) or per pass
@@ -429,7 +433,7 @@ int run_adapt(const std::vector<std::string>& args) {
     if (verbose >= 1)
       std::fprintf(stderr, "adapt: %s: %d vertices, %d triangles; metric %s%s (%.2f s)\n", in.c_str(),
                    cycle.initial.vertices, cycle.initial.triangles, cycle.metric.c_str(),
-                   c.options.cycles > 1 ? (", cycle " + std::to_string(cycle.cycle)).c_str() : "",
+                   cycles > 1 ? (", cycle " + std::to_string(cycle.cycle)).c_str() : "",
                    cycle.setup_seconds);
     po.predicted_vertices = cycle.predicted_vertices;
     display = std::make_unique<ProgressDisplay>(po, [](std::string_view text) {
@@ -444,14 +448,16 @@ int run_adapt(const std::vector<std::string>& args) {
   cb.cycle_ended = [&](const remesh::CycleReport& cycle) {
     display->finish();
     display.reset();
-    if (verbose >= 1 && c.options.cycles > 1) print_cycle(cycle);
+    if (verbose >= 1 && cycles > 1) print_cycle(cycle);
   };
-  const remesh::AdaptResult result = remesh::adapt(std::move(files.input), c.options, cb);
+  // The options go to the engine (a -sol metric is moved, not copied); the
+  // summary needs only their cycle count.
+  const remesh::AdaptResult result = remesh::adapt(std::move(files.input), std::move(c.options), cb);
 
   std::string fields_path;
   write_adapt_outputs(c, result, files.interpolated_names, &fields_path);
   if (!c.report.empty()) write_report(c, result);
-  print_summary(c, result, fields_path);
+  print_summary(c, cycles, result, fields_path);
   return 0;
 }
 

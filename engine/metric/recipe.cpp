@@ -33,7 +33,7 @@ std::vector<double> scalar_field_values(const SurfaceMesh& mesh, const std::stri
 
 // The metric of the source alone (Hessian sources: with `hessian_scale`
 // times the recipe's target; the tangent Hessians in *hessian).
-MetricField source_metric(const SurfaceMesh& mesh, const MetricRecipe& r, const std::vector<int>& origin,
+MetricField source_metric(const SurfaceMesh& mesh, MetricRecipe& r, const std::vector<int>& origin,
                           const std::vector<SymTensor3>& hessian, double target_vertices) {
   using S = MetricRecipe::Source;
   switch (r.source) {
@@ -41,7 +41,7 @@ MetricField source_metric(const SurfaceMesh& mesh, const MetricRecipe& r, const 
       if (r.given.size() != static_cast<std::size_t>(mesh.vertex_capacity()))
         throw MetricError("the given metric has " + std::to_string(r.given.size()) + " values for " +
                           std::to_string(mesh.vertex_capacity()) + " vertex slots");
-      return r.given;
+      return std::move(r.given);  // used once: only Hessian sources are rescaled
     case S::Iso:
       return MetricField(static_cast<std::size_t>(mesh.vertex_capacity()), isotropic_metric(r.iso));
     case S::Size:
@@ -136,7 +136,7 @@ std::vector<SymTensor3> recipe_hessian(const SurfaceMesh& mesh, const MetricReci
   return recover_derivatives(mesh, scalar_field_values(mesh, r.field)).hessian;
 }
 
-MetricResult build_metric(const SurfaceMesh& mesh, const MetricRecipe& r, const std::vector<int>& origin) {
+MetricResult build_metric(const SurfaceMesh& mesh, MetricRecipe r, const std::vector<int>& origin) {
   check_recipe(r);
   MetricResult out;
   if (r.is_hessian()) out.hessian = recipe_hessian(mesh, r, origin);

@@ -74,8 +74,9 @@ struct MetricResult {
 // metric predicts the target within 1% (at most 12 rescalings). Throws
 // MetricError / ExpressionError with a message naming the vertex
 // (`vertex_origin`: 1-based file numbering, see BuildReport).
-MetricResult build_metric(const SurfaceMesh& mesh, const MetricRecipe& recipe,
-                          const std::vector<int>& vertex_origin = {});
+// The recipe is taken by value: a given metric is moved into the result
+// (std::move the recipe when it is not needed after).
+MetricResult build_metric(const SurfaceMesh& mesh, MetricRecipe recipe, const std::vector<int>& vertex_origin = {});
 
 // Checks the recipe's values without a mesh (targets, bounds, sizes); throws
 // MetricError with what is wrong.

@@ -3,6 +3,7 @@
 #include "metric/length.h"
 
 #include <cmath>
+#include <functional>
 
 namespace anisurf {
 
@@ -46,7 +47,7 @@ std::vector<Vec3> vertex_normals(const SurfaceMesh& mesh) {
   return n;
 }
 
-double metric_complexity(const SurfaceMesh& mesh, const MetricField& metric) {
+double metric_complexity(const SurfaceMesh& mesh, const std::function<SymTensor3(Vertex)>& metric_at) {
   double c = 0;
   for (Triangle t : mesh.triangles()) {
     const Vec3 tn = mesh.triangle_normal(t);
@@ -55,10 +56,14 @@ double metric_complexity(const SurfaceMesh& mesh, const MetricField& metric) {
     const auto frame = tangent_frame(tn / area2);
     double s = 0;
     for (int k = 0; k < 3; ++k)
-      s += std::sqrt(std::fmax(det(restrict_to_tangent(metric[mesh.vertex(t, k).idx], frame[0], frame[1])), 0.0));
+      s += std::sqrt(std::fmax(det(restrict_to_tangent(metric_at(mesh.vertex(t, k)), frame[0], frame[1])), 0.0));
     c += 0.5 * area2 * s / 3.0;
   }
   return c;
+}
+
+double metric_complexity(const SurfaceMesh& mesh, const MetricField& metric) {
+  return metric_complexity(mesh, [&metric](Vertex v) -> SymTensor3 { return metric[v.idx]; });
 }
 
 double predicted_vertices(const SurfaceMesh& mesh, const MetricField& metric) {

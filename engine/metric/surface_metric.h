@@ -2,6 +2,7 @@
 // volume of a surface mesh and the vertex count it predicts (report section
 // 2.2: "the same results are obtained if Omega defines a surface").
 #pragma once
+#include <functional>
 #include <array>
 #include <vector>
 
@@ -28,6 +29,9 @@ std::vector<Vec3> vertex_normals(const SurfaceMesh& mesh);
 // triangle (exact for a metric constant per triangle): the area of the
 // surface measured in the metric.
 double metric_complexity(const SurfaceMesh& mesh, const MetricField& metric);
+// The same with the vertex metrics given by a function (a field stored in
+// another form, converted vertex by vertex).
+double metric_complexity(const SurfaceMesh& mesh, const std::function<SymTensor3(Vertex)>& metric_at);
 // Vertices of a mesh whose triangles are unit equilateral in the metric: each
 // has metric area sqrt(3)/4 and a closed surface has about 2 triangles per
 // vertex, so N = 2 C / sqrt(3) (gen.py sizes its cases this way).

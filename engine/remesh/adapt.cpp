@@ -36,20 +36,16 @@ class StepTimer {
   double total_ = 0;
 };
 
-// The target metric stored on T_1's vertices by the data-transfer hook.
-MetricField vertex_metric(const SurfaceMesh& t1) {
-  const Property<SymTensor3> p = t1.get_vertex_property<SymTensor3>("remesh:metric");
-  MetricField m(static_cast<std::size_t>(t1.vertex_capacity()), SymTensor3::identity(1.0));
-  for (Vertex v : t1.vertices()) m[v.idx] = p[v];
+// The target metric stored on T_1's vertices by the data-transfer hook,
+// moved out of the mesh; the remesher's other per-vertex data (hints,
+// normals) go too: T_1 leaves with its positions, tags and fields.
+MetricField take_adapted_metric(SurfaceMesh& t1) {
+  Property<SymTensor3> p = t1.get_vertex_property<SymTensor3>("remesh:metric");
+  MetricField m = std::move(p.vector());
+  for (const std::string& name : t1.vertex_properties().names())
+    if (name.rfind("remesh:", 0) == 0) t1.vertex_properties().remove(name);
+  m.resize(static_cast<std::size_t>(t1.vertex_capacity()), SymTensor3::identity(1.0));
   return m;
-}
-
-// The recipe for the next cycle: the same, but a given metric is the one
-// carried onto the adapted mesh (it cannot be derived again).
-MetricRecipe next_recipe(const MetricRecipe& r, const SurfaceMesh& t1) {
-  MetricRecipe next = r;
-  if (r.source == MetricRecipe::Source::Given) next.given = vertex_metric(t1);
-  return next;
 }
 
 bool is_fixed_point(const std::vector<CycleReport>& cycles, double tolerance) {
@@ -90,7 +86,7 @@ std::unique_ptr<ControlSpace> make_control(const SurfaceMesh& t0, MetricField me
   return std::make_unique<ControlSpace>(t0, std::move(metric), t0_is_geometry, options.interpolation);
 }
 
-AdaptResult adapt(AdaptInput input, const AdaptOptions& options, const AdaptCallbacks& cb) {
+AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& cb) {
   check_options(options);
   const auto t_start = Clock::now();
   AdaptResult result;
@@ -114,12 +110,19 @@ AdaptResult adapt(AdaptInput input, const AdaptOptions& options, const AdaptCall
   timer.done("features");
 
   std::unique_ptr<GeometrySurface> geometry;
-  MetricRecipe recipe = options.metric;
+  // The recipe of every cycle; a given metric is kept apart and moved into
+  // the cycle's metric (a Given source's next one is the metric carried onto
+  // the adapted mesh).
+  MetricField given = std::move(options.metric.given);
+  const MetricRecipe& recipe = options.metric;
   for (int cycle = 1; cycle <= options.cycles; ++cycle) {
     const bool t0_is_geometry = cycle == 1 && !separate;
     CycleReport report;
     report.cycle = cycle;
-    MetricResult metric = build_metric(t0, recipe, cycle == 1 ? input.vertex_origin : std::vector<int>{});
+    MetricRecipe cycle_recipe = recipe;
+    cycle_recipe.given = std::move(given);
+    MetricResult metric =
+        build_metric(t0, std::move(cycle_recipe), cycle == 1 ? input.vertex_origin : std::vector<int>{});
     report.metric = metric.description;
     report.complexity = metric.complexity;
     report.predicted_vertices = metric.predicted_vertices;
@@ -151,21 +154,25 @@ AdaptResult adapt(AdaptInput input, const AdaptOptions& options, const AdaptCall
     remesher.reset();
     adapted.reset();
     control.reset();
-    t1.compact();
-    if (recipe.is_hessian())
-      report.error_estimate = estimated_interpolation_error(t1, recipe_hessian(t1, recipe), recipe.lp);
     result.cycles.push_back(std::move(report));
+    CycleReport& done = result.cycles.back();
     result.fixed_point = is_fixed_point(result.cycles, options.fixed_point);
-    if (cb.cycle_ended) cb.cycle_ended(result.cycles.back());
     const bool last = cycle == options.cycles || result.fixed_point;
-    if (last) geometry.reset();
-    recipe = next_recipe(recipe, t1);
+    if (last) geometry.reset();  // freed before T_1 is compacted and the output written
+    t1.compact();
+    MetricField t1_metric = take_adapted_metric(t1);
+    if (recipe.is_hessian())
+      done.error_estimate = estimated_interpolation_error(t1, recipe_hessian(t1, recipe), recipe.lp);
+    if (cb.cycle_ended) cb.cycle_ended(done);
+    if (last) {
+      result.metric = std::move(t1_metric);
+      result.mesh = std::move(t1);
+      break;
+    }
+    if (recipe.source == MetricRecipe::Source::Given) given = std::move(t1_metric);
     t0 = std::move(t1);
-    if (last) break;
     timer.restart();
   }
-  result.metric = vertex_metric(t0);
-  result.mesh = std::move(t0);
   result.seconds = seconds_since(t_start);
   return result;
 }

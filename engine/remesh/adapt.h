@@ -115,6 +115,8 @@ std::unique_ptr<ControlSpace> make_control(const SurfaceMesh& t0, MetricField me
 // The whole pipeline; see the top of this file. Throws Error (MetricError,
 // ExpressionError ...) before changing anything on bad options or a metric
 // that cannot be built.
-AdaptResult adapt(AdaptInput input, const AdaptOptions& options, const AdaptCallbacks& callbacks = {});
+// The options are taken by value: a given metric (MetricRecipe::given) is
+// moved through, not copied (std::move them when not needed after).
+AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& callbacks = {});
 
 }  // namespace anisurf::remesh

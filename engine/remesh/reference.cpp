@@ -1,5 +1,7 @@
 #include "remesh/reference.h"
 
+#include "metric/surface_metric.h"
+
 #include <cassert>
 
 #include "geometry/normals.h"
@@ -113,6 +115,10 @@ MetricField from_space(const MetricField& X, MetricInterpolation how) {
 MetricField ControlSpace::metric() const { return from_space(in_use(), interpolation_); }
 
 MetricField ControlSpace::target_metric() const { return from_space(target_, interpolation_); }
+
+double ControlSpace::target_complexity() const {
+  return metric_complexity(mesh_, [this](Vertex v) { return from_interpolation_space(target_[v.idx], interpolation_); });
+}
 
 Location ControlSpace::locate(const Vec3& x, Hint hint, const Location& on_geometry) {
   if (!locator_) return on_geometry;

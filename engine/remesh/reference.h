@@ -116,6 +116,8 @@ class ControlSpace {
   // the target at T_0's vertex slots, rebuilt from the stored form.
   MetricField metric() const;
   MetricField target_metric() const;
+  // metric_complexity of the target on T_0, without a copy of the field.
+  double target_complexity() const;
 
   // Remark 6: the metric in use becomes the log-Euclidean interpolation
   // exp((1 - t) log M_0 + t log M) between the metric M_0 the mesh T_0
