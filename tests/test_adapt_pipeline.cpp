@@ -171,3 +171,25 @@ TEST_CASE("outputs are checked writable before an adaptation starts") {
   CHECK(status != 0);
   CHECK(text.find("missing/out.mesh") != std::string::npos);
 }
+
+TEST_CASE("adapt: a metric whose predicted output cannot fit in memory is refused before any pass") {
+  remesh::AdaptOptions o;
+  o.metric.source = MetricRecipe::Source::Iso;
+  o.metric.iso = 1e-6;  // ~2.3e12 vertices on the unit square
+  o.metric.hgrad = 0;
+  CHECK_THROWS_WITH_AS(remesh::adapt({test::build(test::square_grid(4))}, o), doctest::Contains("predicts"), Error);
+  o.metric.iso = 0.05;
+  o.memory_limit = 1e5;  // 100 kB: 550 predicted vertices need ~220 kB
+  CHECK_THROWS_WITH_AS(remesh::adapt({test::build(test::square_grid(4))}, o), doctest::Contains("refused"), Error);
+  o.memory_limit = 0;
+  CHECK(remesh::adapt({test::build(test::square_grid(4))}, o).mesh.validate().ok());
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/sphere20k.mesh");
+  int status = -1;
+  const auto dir = test::temp_dir("adapt_too_small");
+  const std::string text = test::capture(std::string(ANISURF_BINARY) + " adapt '" + mesh + "' --size 3.5e-6 -o '" +
+                                             (dir / "out.mesh").string() + "' 2>&1",
+                                         &status);
+  CHECK(status != 0);
+  CHECK(text.find("predicts") != std::string::npos);
+  CHECK(!std::filesystem::exists(dir / "out.mesh"));
+}

@@ -79,6 +79,9 @@ const char* kAdaptHelp =
     "                       along it (default 0.02; a straight curve coarsens freely,\n"
     "                       an arc of radius r to sizes of 8 S r; 0.1 lets the metric\n"
     "                       win on the report's 7.3 crease)\n"
+    "  --max-memory MB      refuse, before any pass, a metric whose predicted output\n"
+    "                       needs more (about 400 bytes per predicted vertex; default:\n"
+    "                       the machine's memory)\n"
     "  --relax N            Remark 6: adapt first to N relaxed metrics between the\n"
     "                       input mesh's sizes and the target (default 0: off)\n"
     "  --report FILE        per-pass report (JSON)\n"
@@ -191,6 +194,9 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
   o.remesh.relaxation_stages = int_option(p, "--relax", 0, 0, "a number of stages >= 0");
   o.cycles = int_option(p, "--cycles", 1, 1, "a number of cycles >= 1");
   o.fixed_point = p.option_double("--fixed-point", o.fixed_point);
+  const double max_memory_mb = p.option_double("--max-memory", 0);
+  if (!(max_memory_mb >= 0)) throw UsageError{"--max-memory expects megabytes >= 0 (0: the machine's memory)"};
+  o.memory_limit = max_memory_mb * 1e6;
   const std::string length = p.option("--length");
   const std::string interpolation = p.option("--interpolation");
   const std::string surface = p.option("--surface");

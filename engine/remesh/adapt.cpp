@@ -1,7 +1,10 @@
 #include "remesh/adapt.h"
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 #include "core/error.h"
 #include "metric/surface_metric.h"
@@ -48,6 +51,24 @@ MetricField take_adapted_metric(SurfaceMesh& t1) {
   return m;
 }
 
+double physical_memory_bytes() {
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 0.0;
+}
+
+// Refuses a metric whose predicted output cannot fit in memory.
+void check_predicted_size(double predicted_vertices, double limit) {
+  if (!(limit > 0)) limit = physical_memory_bytes();
+  const double bytes = predicted_vertices * kBytesPerPredictedVertex;
+  if (!(limit > 0) || (std::isfinite(bytes) && bytes <= limit)) return;
+  char msg[320];
+  std::snprintf(msg, sizeof msg,
+                "the metric predicts %.3g vertices, about %.3g GB at %.0f bytes per vertex, over the %.3g GB "
+                "available: refused (check the metric's scale, or bound it with hmin)",
+                predicted_vertices, bytes / 1e9, kBytesPerPredictedVertex, limit / 1e9);
+  throw Error(msg);
+}
+
 bool is_fixed_point(const std::vector<CycleReport>& cycles, double tolerance) {
   if (cycles.size() < 2) return false;
   const double a = cycles[cycles.size() - 2].final.vertices, b = cycles.back().final.vertices;
@@ -70,6 +91,7 @@ void check_options(const AdaptOptions& o) {
   if (!(o.fixed_point >= 0)) throw Error("the fixed-point tolerance must be >= 0");
   if (o.remesh.max_iterations < 1) throw Error("the number of rounds must be >= 1");
   if (o.remesh.relaxation_stages < 0) throw Error("the number of relaxation stages must be >= 0");
+  if (!(o.memory_limit >= 0)) throw Error("the memory limit must be >= 0 bytes");
 }
 
 std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKind kind) {
@@ -127,6 +149,7 @@ AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& 
     report.complexity = metric.complexity;
     report.predicted_vertices = metric.predicted_vertices;
     report.scaling_steps = metric.scaling_steps;
+    check_predicted_size(metric.predicted_vertices, options.memory_limit);
     timer.done("metric");
     if (!geometry) {  // after the first metric: a metric refused costs no surface
       geometry = make_geometry(tg, options.surface);

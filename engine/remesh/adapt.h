@@ -53,7 +53,16 @@ struct AdaptOptions {
   // previous cycle's.
   int cycles = 1;
   double fixed_point = 0.02;
+  // A metric whose predicted output would need more memory than this is
+  // refused before any pass, with the prediction in the message (bytes;
+  // 0: the machine's physical memory). The estimate is
+  // kBytesPerPredictedVertex per predicted vertex.
+  double memory_limit = 0;
 };
+
+// Peak memory per output vertex of an adaptation, with a margin: measured
+// 150-170 bytes per output triangle (2 per vertex) on the large bench cases.
+inline constexpr double kBytesPerPredictedVertex = 400;
 
 // What an adaptation starts from.
 struct AdaptInput {
