@@ -71,7 +71,7 @@ void check_state(AdaptedMesh& a, const char* what) {
 }
 
 // Runs the loop of Remesher::run() pass by pass, checking after each.
-std::vector<PassReport> run_checked(Remesher& r, AdaptedMesh& a, int max_iterations) {
+std::vector<PassReport> run_checked(Remesher& r, AdaptedMesh& a, int max_rounds) {
   std::vector<PassReport> out;
   auto one = [&](PassKind k) {
     out.push_back(r.step(k));
@@ -79,7 +79,7 @@ std::vector<PassReport> run_checked(Remesher& r, AdaptedMesh& a, int max_iterati
     return out.back();
   };
   one(PassKind::Swap);
-  for (int it = 0; it < max_iterations; ++it) {
+  for (int it = 0; it < max_rounds; ++it) {
     const int s = one(PassKind::Split).splits;
     const int c = one(PassKind::Collapse).collapses;
     one(PassKind::Swap);
@@ -452,7 +452,7 @@ TEST_CASE("remesh: run() is advance() until finished; a stopped run resumes; sna
   for (std::size_t i = 0; i < all.size(); ++i) {
     CAPTURE(i);
     CHECK(got[i].kind == all[i].kind);
-    CHECK(got[i].iteration == all[i].iteration);
+    CHECK(got[i].round == all[i].round);
     CHECK(got[i].changes() == all[i].changes());
     CHECK(got[i].vertices == all[i].vertices);
   }
@@ -630,7 +630,7 @@ TEST_CASE("remesh: demo sphere with its anisotropic band, every edge split to at
     RemeshOptions o;
     o.op.lmin = 0.72;  // anisurf adapt's default
     Remesher r(*s->adapted, o);
-    const std::vector<PassReport> passes = run_checked(r, *s->adapted, o.max_iterations);
+    const std::vector<PassReport> passes = run_checked(r, *s->adapted, o.max_rounds);
     const PassReport end = r.measure();
     // Before the fix about 1% of the edges stayed at lengths 2-11 between
     // needles tilted up to 60 degrees off the sphere that no split could cut.
