@@ -703,3 +703,40 @@ TEST_CASE("remesh: the curve turn limit applies where the curve bends, not to a 
     CHECK(a.count_inverted() == 0);
   }
 }
+
+TEST_CASE("remesh: the schedule walks round_plan() round after round, at most max_rounds per stage") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
+  auto s = make_setup(mesh, sol, 0, true);
+  RemeshOptions o;
+  o.smoothing_passes = 2;
+  o.max_rounds = 2;
+  o.converged_share = 0;  // only max_rounds ends the stage (hemi needs more rounds than 2 to settle)
+  Remesher r(*s->adapted, o);
+  const std::vector<PassKind> plan = r.round_plan();
+  REQUIRE(plan == std::vector<PassKind>{PassKind::Split, PassKind::Collapse, PassKind::Swap, PassKind::Smooth,
+                                        PassKind::Smooth});
+  const std::vector<PassReport> all = r.run();
+  REQUIRE(all.size() >= 2 + plan.size());
+  CHECK(all.front().kind == PassKind::Swap);  // the initial swaps
+  CHECK(all.front().round == 0);
+  CHECK(all.back().kind == PassKind::Final);
+  const std::size_t round_passes = all.size() - 2;
+  REQUIRE(round_passes % plan.size() == 0);
+  CHECK(round_passes / plan.size() <= 2);
+  for (std::size_t i = 0; i < round_passes; ++i) {
+    CAPTURE(i);
+    CHECK(all[i + 1].kind == plan[i % plan.size()]);
+    CHECK(all[i + 1].round == static_cast<int>(i / plan.size()) + 1);
+  }
+  // refuse(): the elements an operator never applies to are not refusals.
+  for (const PassReport& p : all) {
+    CAPTURE(pass_name(p.kind));
+    if (p.kind == PassKind::Swap) CHECK(p.rejected[static_cast<std::size_t>(Rejection::Feature)] == 0);
+    if (p.kind == PassKind::Smooth || p.kind == PassKind::Final) {
+      CHECK(p.rejected[static_cast<std::size_t>(Rejection::Fixed)] == 0);
+      CHECK(p.rejected[static_cast<std::size_t>(Rejection::NoGain)] == 0);
+    }
+  }
+  check_state(*s->adapted, "two rounds");
+}
