@@ -30,7 +30,7 @@ std::vector<remesh::PassReport> fake_run(int rounds) {
   auto add = [&](remesh::PassKind k, int it, int v) {
     remesh::PassReport r;
     r.kind = k;
-    r.iteration = it;
+    r.round = it;
     r.vertices = v;
     r.triangles = 2 * v;
     r.seconds = 0.25;
@@ -178,7 +178,7 @@ TEST_CASE("progress: the live line (round, pass, bar, clamped percentage, V / pr
 
 TEST_CASE("progress: the per-round / per-pass line has the counts, the state and the rate") {
   remesh::PassReport r;
-  r.iteration = 4;
+  r.round = 4;
   r.splits = 600;
   r.collapses = 200;
   r.swaps = 150;

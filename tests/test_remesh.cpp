@@ -71,7 +71,7 @@ void check_state(AdaptedMesh& a, const char* what) {
 }
 
 // Runs the loop of Remesher::run() pass by pass, checking after each.
-std::vector<PassReport> run_checked(Remesher& r, AdaptedMesh& a, int max_iterations) {
+std::vector<PassReport> run_checked(Remesher& r, AdaptedMesh& a, int max_rounds) {
   std::vector<PassReport> out;
   auto one = [&](PassKind k) {
     out.push_back(r.step(k));
@@ -79,7 +79,7 @@ std::vector<PassReport> run_checked(Remesher& r, AdaptedMesh& a, int max_iterati
     return out.back();
   };
   one(PassKind::Swap);
-  for (int it = 0; it < max_iterations; ++it) {
+  for (int it = 0; it < max_rounds; ++it) {
     const int s = one(PassKind::Split).splits;
     const int c = one(PassKind::Collapse).collapses;
     one(PassKind::Swap);
@@ -452,7 +452,7 @@ TEST_CASE("remesh: run() is advance() until finished; a stopped run resumes; sna
   for (std::size_t i = 0; i < all.size(); ++i) {
     CAPTURE(i);
     CHECK(got[i].kind == all[i].kind);
-    CHECK(got[i].iteration == all[i].iteration);
+    CHECK(got[i].round == all[i].round);
     CHECK(got[i].changes() == all[i].changes());
     CHECK(got[i].vertices == all[i].vertices);
   }
@@ -630,7 +630,7 @@ TEST_CASE("remesh: demo sphere with its anisotropic band, every edge split to at
     RemeshOptions o;
     o.op.lmin = 0.72;  // anisurf adapt's default
     Remesher r(*s->adapted, o);
-    const std::vector<PassReport> passes = run_checked(r, *s->adapted, o.max_iterations);
+    const std::vector<PassReport> passes = run_checked(r, *s->adapted, o.max_rounds);
     const PassReport end = r.measure();
     // Before the fix about 1% of the edges stayed at lengths 2-11 between
     // needles tilted up to 60 degrees off the sphere that no split could cut.
@@ -702,4 +702,41 @@ TEST_CASE("remesh: the curve turn limit applies where the curve bends, not to a 
     CHECK_MESSAGE(v.ok(), v.summary());
     CHECK(a.count_inverted() == 0);
   }
+}
+
+TEST_CASE("remesh: the schedule walks round_plan() round after round, at most max_rounds per stage") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
+  auto s = make_setup(mesh, sol, 0, true);
+  RemeshOptions o;
+  o.smoothing_passes = 2;
+  o.max_rounds = 2;
+  o.converged_share = 0;  // only max_rounds ends the stage (hemi needs more rounds than 2 to settle)
+  Remesher r(*s->adapted, o);
+  const std::vector<PassKind> plan = r.round_plan();
+  REQUIRE(plan == std::vector<PassKind>{PassKind::Split, PassKind::Collapse, PassKind::Swap, PassKind::Smooth,
+                                        PassKind::Smooth});
+  const std::vector<PassReport> all = r.run();
+  REQUIRE(all.size() >= 2 + plan.size());
+  CHECK(all.front().kind == PassKind::Swap);  // the initial swaps
+  CHECK(all.front().round == 0);
+  CHECK(all.back().kind == PassKind::Final);
+  const std::size_t round_passes = all.size() - 2;
+  REQUIRE(round_passes % plan.size() == 0);
+  CHECK(round_passes / plan.size() <= 2);
+  for (std::size_t i = 0; i < round_passes; ++i) {
+    CAPTURE(i);
+    CHECK(all[i + 1].kind == plan[i % plan.size()]);
+    CHECK(all[i + 1].round == static_cast<int>(i / plan.size()) + 1);
+  }
+  // refuse(): the elements an operator never applies to are not refusals.
+  for (const PassReport& p : all) {
+    CAPTURE(pass_name(p.kind));
+    if (p.kind == PassKind::Swap) CHECK(p.rejected[static_cast<std::size_t>(Rejection::Feature)] == 0);
+    if (p.kind == PassKind::Smooth || p.kind == PassKind::Final) {
+      CHECK(p.rejected[static_cast<std::size_t>(Rejection::Fixed)] == 0);
+      CHECK(p.rejected[static_cast<std::size_t>(Rejection::NoGain)] == 0);
+    }
+  }
+  check_state(*s->adapted, "two rounds");
 }

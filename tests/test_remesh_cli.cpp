@@ -187,7 +187,7 @@ TEST_CASE("anisurf adapt progress, stderr to a pipe: one line per round with its
   std::ifstream in(report);
   const nlohmann::json j = nlohmann::json::parse(in);
   int rounds = 0;
-  for (const auto& p : j["passes"]) rounds = std::max(rounds, p["iteration"].get<int>());
+  for (const auto& p : j["passes"]) rounds = std::max(rounds, p["round"].get<int>());
   const auto lines = test::render_terminal(err);
   REQUIRE(lines.size() >= 3);
   CHECK(lines.front().rfind("adapt: ", 0) == 0);

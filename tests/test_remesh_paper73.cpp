@@ -65,7 +65,7 @@ SurfaceMesh adapt_checked(const SurfaceMesh& input, const MetricAt& metric_at, P
   Remesher r(adapted, o);
   REQUIRE(adapted.count_inverted() == 0);
   r.run([&](const PassReport& p) {
-    INFO("pass " << pass_name(p.kind) << ", round " << p.iteration);
+    INFO("pass " << pass_name(p.kind) << ", round " << p.round);
     const ValidationReport v = adapted.mesh().validate();
     REQUIRE_MESSAGE(v.ok(), v.summary());
     CHECK(adapted.count_inverted() == 0);

@@ -180,7 +180,7 @@ bool adapt_checked(const std::string& name, TestMetric kind = TestMetric::Isotro
     return p;
   };
   one(PassKind::Swap, 0);
-  for (int it = 1; it <= o.max_iterations; ++it) {
+  for (int it = 1; it <= o.max_rounds; ++it) {
     const int s = one(PassKind::Split, it).splits;
     const int c = one(PassKind::Collapse, it).collapses;
     one(PassKind::Swap, it);

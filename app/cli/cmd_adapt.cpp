@@ -65,7 +65,8 @@ const char* kAdaptHelp =
     "                       g1-closest: its closest point (slower); polyhedral\n"
     "  --geometry G         T_G: another mesh of the surface to project onto (e.g. a\n"
     "                       finer one); IN stays T_0, the metric's support\n"
-    "  --iterations N       at most N rounds of split/collapse/swap/smooth (default 30)\n"
+    "  --rounds N           at most N rounds of split/collapse/swap/smooth per stage\n"
+    "                       (default 30; --iterations N is the same option)\n"
     "  --cycles N           section 7.1's loop: the output becomes the next input and\n"
     "                       the metric is derived again on it (an expression evaluated\n"
     "                       anew, a field carried over), at most N times; stops at a\n"
@@ -125,7 +126,7 @@ constexpr const char* kInterpolatedPrefix = "interpolate:";
 nlohmann::json pass_json(const remesh::PassReport& r) {
   nlohmann::json j;
   j["pass"] = std::string(remesh::pass_name(r.kind));
-  j["iteration"] = r.iteration;
+  j["round"] = r.round;
   j["splits"] = r.splits;
   j["collapses"] = r.collapses;
   j["swaps"] = r.swaps;
@@ -190,7 +191,8 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
   o.remesh.op.lmax = p.option_double("--lmax", o.remesh.op.lmax);
   o.remesh.op.max_curve_turn_deg = p.option_double("--curve-turn", o.remesh.op.max_curve_turn_deg);
   o.remesh.op.curve_sag = p.option_double("--curve-sag", o.remesh.op.curve_sag);
-  o.remesh.max_iterations = int_option(p, "--iterations", o.remesh.max_iterations, 1, "a number of rounds >= 1");
+  o.remesh.max_rounds = int_option(p, "--iterations", o.remesh.max_rounds, 1, "a number of rounds >= 1");
+  o.remesh.max_rounds = int_option(p, "--rounds", o.remesh.max_rounds, 1, "a number of rounds >= 1");
   o.remesh.relaxation_stages = int_option(p, "--relax", 0, 0, "a number of stages >= 0");
   o.cycles = int_option(p, "--cycles", 1, 1, "a number of cycles >= 1");
   o.fixed_point = p.option_double("--fixed-point", o.fixed_point);

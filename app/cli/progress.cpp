@@ -97,7 +97,7 @@ std::string format_pass_line(const remesh::PassReport& r, std::string_view what)
   const std::string w(what);
   return format("  %2d %-8s split %6d collapse %6d swap %6d move %7d | V %7d T %7d  in band %5.1f%%  q %.3f/%.3f  "
                 "%.2f s  %s op/s",
-                r.iteration, w.c_str(), r.splits, r.collapses, r.swaps, r.moves, r.vertices,
+                r.round, w.c_str(), r.splits, r.collapses, r.swaps, r.moves, r.vertices,
                 r.triangles, 100 * r.in_band_share, r.q_min, r.q_mean, r.seconds,
                 format_rate(r.changes(), r.seconds).c_str());
 }
@@ -140,7 +140,7 @@ void ProgressDisplay::draw_live(double elapsed) {
 void ProgressDisplay::pass(const remesh::PassReport& r, double elapsed) {
   if (options_.verbose <= 0) return;
   const std::string name(remesh::pass_name(r.kind));
-  live_.round = r.iteration;
+  live_.round = r.round;
   pass_name_ = name;
   live_.pass = pass_name_;
   live_.splits += r.splits;
@@ -154,10 +154,10 @@ void ProgressDisplay::pass(const remesh::PassReport& r, double elapsed) {
   }
   // -v 1: the sums of a round, printed when the next round (or the final pass)
   // begins; the initial swaps (round 0) are only counted on the live line.
-  if (r.kind == remesh::PassKind::Final || r.iteration != round_.iteration) {
-    if (round_.iteration > 0) line(format_pass_line(round_, "round"));
+  if (r.kind == remesh::PassKind::Final || r.round != round_.round) {
+    if (round_.round > 0) line(format_pass_line(round_, "round"));
     round_ = remesh::PassReport{};
-    round_.iteration = r.iteration;
+    round_.round = r.round;
   }
   if (r.kind == remesh::PassKind::Final) {
     line(format_pass_line(r, "final"));

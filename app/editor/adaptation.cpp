@@ -117,7 +117,7 @@ void Adaptation::work(std::size_t from, int max_passes) {
         snap->metric[v] = m.is_deleted(Vertex(v)) ? SymTensor3::identity(1.0) : adapted_->metric(Vertex(v));
       snap->has_report = true;
       snap->schedule = remesher_->schedule();
-      snap->label = (r.iteration > 0 ? std::to_string(r.iteration) + " " : std::string()) +
+      snap->label = (r.round > 0 ? std::to_string(r.round) + " " : std::string()) +
                     std::string(remesh::pass_name(kind)) + (r.interrupted ? " (interrupted)" : "");
       snap->report = std::move(r);
       last_pass_seconds_ = snap->report.seconds;

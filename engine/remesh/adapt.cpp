@@ -89,7 +89,7 @@ void check_options(const AdaptOptions& o) {
     throw Error("the edge length band needs 0 < lmin < lmax");
   if (o.cycles < 1) throw Error("the number of cycles must be >= 1");
   if (!(o.fixed_point >= 0)) throw Error("the fixed-point tolerance must be >= 0");
-  if (o.remesh.max_iterations < 1) throw Error("the number of rounds must be >= 1");
+  if (o.remesh.max_rounds < 1) throw Error("the number of rounds must be >= 1");
   if (o.remesh.relaxation_stages < 0) throw Error("the number of relaxation stages must be >= 0");
   if (!(o.memory_limit >= 0)) throw Error("the memory limit must be >= 0 bytes");
 }

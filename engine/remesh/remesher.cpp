@@ -19,6 +19,8 @@ using M = SurfaceMesh;
 using Clock = std::chrono::steady_clock;
 
 using EdgeItem = Remesher::EdgeItem;
+// Heap orders (std::priority_queue's "less"): Longer puts the longest edge
+// on top, Shorter the shortest.
 struct Longer {
   bool operator()(const EdgeItem& x, const EdgeItem& y) const { return x.length < y.length; }
 };
@@ -49,6 +51,37 @@ class EdgeHeap {
 };
 
 std::array<int, 2> key(Vertex a, Vertex b) { return a.idx < b.idx ? std::array{a.idx, b.idx} : std::array{b.idx, a.idx}; }
+
+// Counts a refusal of the operator of a `pass` pass (PassKind::Final: the
+// removal of a vertex of valence < 4; smoothing within the final pass counts
+// as PassKind::Smooth). The rule, one for every pass: a refusal is an element
+// the pass chose to change and could not. Passes over all elements try many
+// the operator never applies to, which are not refusals: feature edges in a
+// swap pass (Rejection::Feature), fixed vertices (Fixed) and vertices at
+// their optimum (NoGain) in smoothing. The swaps tried around a vertex
+// (local swaps, section 6 step 2, and the final pass's valence swaps) are
+// opportunities, never counted.
+void refuse(PassReport& r, PassKind pass, Rejection why) {
+  const bool never_applies = (pass == PassKind::Swap && why == Rejection::Feature) ||
+                             (pass == PassKind::Smooth && (why == Rejection::Fixed || why == Rejection::NoGain));
+  if (!never_applies) ++r.rejected[static_cast<std::size_t>(why)];
+}
+
+// The two sides of the band [lmin, lmax] for Remesher::priority_pass:
+// which edges are outside, the heap order that puts the farthest on top, the
+// operator's plan.
+struct SplitEdges {
+  static constexpr PassKind kind = PassKind::Split;
+  using Order = Longer;
+  static bool outside(double length, const OperatorOptions& o) { return length > o.lmax; }
+  static SplitPlan plan(AdaptedMesh& m, Corner c, const OperatorOptions& o) { return can_split(m, c, o); }
+};
+struct CollapseEdges {
+  static constexpr PassKind kind = PassKind::Collapse;
+  using Order = Shorter;
+  static bool outside(double length, const OperatorOptions& o) { return length < o.lmin; }
+  static CollapsePlan plan(AdaptedMesh& m, Corner c, const OperatorOptions& o) { return can_collapse(m, c, o); }
+};
 
 // The edges of the triangles around v that are opposite v.
 std::vector<std::array<int, 2>> link_edges(const SurfaceMesh& mesh, Vertex v) {
@@ -157,7 +190,7 @@ int Remesher::local_swaps(Vertex v, PassReport& r) {
   int n = 0;
   // Each improving swap replaces a link edge by a spoke of v: the loop ends
   // within the valence.
-  for (int round = 0; round < 4; ++round) {
+  for (int visit = 0; visit < options_.max_local_swap_visits; ++visit) {
     bool changed = false;
     for (const auto& e : link_edges(mesh, v)) {
       const Corner c = find_edge_corner(mesh, Vertex(e[0]), Vertex(e[1]));
@@ -174,118 +207,100 @@ int Remesher::local_swaps(Vertex v, PassReport& r) {
   return n;
 }
 
-// Share of the vertices under which a split generation is the last one.
-constexpr double kFewSplits = 0.01;
-
 void Remesher::split_pass(PassReport& r) {
   if (!options_.split_by_generation) {
-    split_generation(r, true);
+    priority_pass<SplitEdges>(r, true);
     return;
   }
   // Generations: every edge longer than lmax now, longest first, without the
-  // swaps in between; then a swap sweep around what changed, which turns
+  // swaps in between; then a swap pass around what changed, which turns
   // the triangles whose three edges were split into 1:4 subdivisions; again
   // with the long edges left, until none is.
-  for (int generation = 0; generation < 64 && !r.interrupted; ++generation) {
-    const int changes = split_generation(r, false);
+  for (int generation = 0; generation < options_.max_split_generations && !r.interrupted; ++generation) {
+    const int changes = priority_pass<SplitEdges>(r, false);
     if (changes == 0) break;
     if (options_.local_swaps) swap_pass(r);
     // A few long edges left (each generation scans the whole mesh): they
     // are split the classic way, longest first, following the new edges.
-    if (changes < kFewSplits * mesh_.mesh().n_vertices()) {
-      split_generation(r, true);
+    if (changes < options_.few_splits_share * mesh_.mesh().n_vertices()) {
+      priority_pass<SplitEdges>(r, true);
       break;
     }
   }
 }
 
-int Remesher::split_generation(PassReport& r, bool follow_new_edges) {
+template <class Edges>
+int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
   SurfaceMesh& mesh = mesh_.mesh();
   const OperatorOptions& o = options_.op;
-  EdgeHeap<Longer> heap(heap_);
+  EdgeHeap<typename Edges::Order> heap(heap_);
   for (Corner c : mesh.edges()) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     const double l = mesh_.length(a, b);
-    if (l > o.lmax) heap.push({l, a.idx, b.idx});
+    if (Edges::outside(l, o)) heap.push({l, a.idx, b.idx});
   }
-  // A guard against cycles that grows with the mesh (a refinement multiplies
-  // the triangles many times over in one pass).
+  // Splits only add triangles, collapses only remove them: the budget
+  // follows a refinement and keeps its start through a coarsening.
+  const long long start_triangles = mesh.n_triangles();
+  auto budget = [&] {
+    const long long triangles = std::max<long long>(start_triangles, mesh.n_triangles());
+    return static_cast<long long>(options_.pops_per_triangle) * triangles + options_.pops_base;
+  };
   long long pops = 0;
   int changes = 0;
-  while (!heap.empty() && pops++ < 20LL * mesh.n_triangles() + 1000 && !interrupted(r)) {
+  while (!heap.empty() && pops++ < budget() && !interrupted(r)) {
     const EdgeItem it = heap.pop();
     const Vertex a(it.a), b(it.b);
     const Corner c = find_edge_corner(mesh, a, b);
-    if (!c.is_valid()) continue;
-    if (mesh_.length(a, b) <= o.lmax) continue;
-    if (in_cache(a, b, PassKind::Split)) {
-      ++r.rejected[static_cast<int>(Rejection::Cache)];
+    if (!c.is_valid() || !Edges::outside(mesh_.length(a, b), o)) continue;
+    if (in_cache(a, b, Edges::kind)) {  // Remark 5
+      refuse(r, Edges::kind, Rejection::Cache);
       continue;
     }
-    const SplitPlan plan = can_split(mesh_, c, o);
+    const auto plan = Edges::plan(mesh_, c, o);
     if (plan.why != Rejection::None) {
-      ++r.rejected[static_cast<int>(plan.why)];
+      refuse(r, Edges::kind, plan.why);
       continue;
     }
     ++changes;
-    if (plan.swap_instead) {  // figure 14: a swap instead of the split
-      const Corner d = swap(mesh_, c);
-      ++r.swaps;
-      touch(r, mesh.edge_from(d));
-      touch(r, mesh.edge_to(d));
-      continue;
-    }
-    const Vertex v = split(mesh_, c, plan);
-    ++r.splits;
-    if (!plan.projected) ++r.split_unprojected;
-    remember(PassKind::Split, v);
-    touch(r, v);
-    if (!follow_new_edges) continue;
-    local_swaps(v, r);
+    const Vertex v = apply(r, c, plan, follow_new_edges);
+    if (!follow_new_edges || !v.is_valid()) continue;
     for (Vertex w : mesh.ring_vertices(v)) {
       const double l = mesh_.length(v, w);
-      if (l > o.lmax) heap.push({l, v.idx, w.idx});
+      if (Edges::outside(l, o)) heap.push({l, v.idx, w.idx});
     }
   }
   return changes;
 }
 
-void Remesher::collapse_pass(PassReport& r) {
+Vertex Remesher::apply(PassReport& r, Corner c, const SplitPlan& plan, bool follow_new_edges) {
   SurfaceMesh& mesh = mesh_.mesh();
-  const OperatorOptions& o = options_.op;
-  EdgeHeap<Shorter> heap(heap_);
-  for (Corner c : mesh.edges()) {
-    const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
-    const double l = mesh_.length(a, b);
-    if (l < o.lmin) heap.push({l, a.idx, b.idx});
+  if (plan.swap_instead) {  // figure 14: a swap instead of the split
+    const Corner d = swap(mesh_, c);
+    ++r.swaps;
+    touch(r, mesh.edge_from(d));
+    touch(r, mesh.edge_to(d));
+    return Vertex();
   }
-  long long budget = 20LL * mesh.n_triangles() + 1000;
-  while (!heap.empty() && budget-- > 0 && !interrupted(r)) {
-    const EdgeItem it = heap.pop();
-    const Vertex a(it.a), b(it.b);
-    const Corner c = find_edge_corner(mesh, a, b);
-    if (!c.is_valid()) continue;
-    if (mesh_.length(a, b) >= o.lmin) continue;
-    if (in_cache(a, b, PassKind::Collapse)) {
-      ++r.rejected[static_cast<int>(Rejection::Cache)];
-      continue;
-    }
-    const CollapsePlan plan = can_collapse(mesh_, c, o);
-    if (plan.why != Rejection::None) {
-      ++r.rejected[static_cast<int>(plan.why)];
-      continue;
-    }
-    const Vertex v = collapse(mesh_, plan);
-    ++r.collapses;
-    remember(PassKind::Collapse, v);
-    local_swaps(v, r);
-    touch(r, v);
-    for (Vertex w : mesh.ring_vertices(v)) {
-      const double l = mesh_.length(v, w);
-      if (l < o.lmin) heap.push({l, v.idx, w.idx});
-    }
-  }
+  const Vertex v = split(mesh_, c, plan);
+  ++r.splits;
+  if (!plan.projected) ++r.split_unprojected;
+  remember(PassKind::Split, v);
+  touch(r, v);
+  if (follow_new_edges) local_swaps(v, r);
+  return v;
 }
+
+Vertex Remesher::apply(PassReport& r, Corner, const CollapsePlan& plan, bool follow_new_edges) {
+  const Vertex v = collapse(mesh_, plan);
+  ++r.collapses;
+  remember(PassKind::Collapse, v);
+  if (follow_new_edges) local_swaps(v, r);
+  touch(r, v);
+  return v;
+}
+
+void Remesher::collapse_pass(PassReport& r) { priority_pass<CollapseEdges>(r, true); }
 
 void Remesher::swap_pass(PassReport& r) {
   SurfaceMesh& mesh = mesh_.mesh();
@@ -297,7 +312,7 @@ void Remesher::swap_pass(PassReport& r) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     if (!mesh.is_boundary_edge(c) && (active[a.idx] || active[b.idx])) queue.push_back({a.idx, b.idx});
   }
-  long long budget = static_cast<long long>(options_.max_swap_sweeps) * static_cast<long long>(queue.size()) + 16;
+  long long budget = static_cast<long long>(options_.max_swap_visits) * static_cast<long long>(queue.size()) + 16;
   while (!queue.empty() && budget-- > 0 && !interrupted(r)) {
     const auto e = queue.front();
     queue.pop_front();
@@ -305,7 +320,7 @@ void Remesher::swap_pass(PassReport& r) {
     if (!c.is_valid()) continue;
     const SwapPlan plan = can_swap(mesh_, c, options_.op);
     if (plan.why != Rejection::None) {
-      if (plan.why != Rejection::Feature) ++r.rejected[static_cast<int>(plan.why)];
+      refuse(r, PassKind::Swap, plan.why);
       continue;
     }
     const Corner d = swap(mesh_, c);
@@ -335,7 +350,7 @@ void Remesher::smooth_pass(PassReport& r) {
     if (!active[v.idx] || mesh.is_isolated(v)) continue;
     const MovePlan plan = can_move(mesh_, v, o);
     if (plan.why != Rejection::None) {
-      if (plan.why != Rejection::Fixed && plan.why != Rejection::NoGain) ++r.rejected[static_cast<int>(plan.why)];
+      refuse(r, PassKind::Smooth, plan.why);
       continue;
     }
     move(mesh_, v, plan);
@@ -355,7 +370,7 @@ void Remesher::final_pass(PassReport& r) {
     if (mesh_.kind(v) != VertexKind::Free || mesh.valence(v) >= 4) continue;
     const CollapsePlan plan = can_remove_vertex(mesh_, v, o);
     if (plan.why != Rejection::None) {
-      ++r.rejected[static_cast<int>(plan.why)];
+      refuse(r, PassKind::Final, plan.why);
       continue;
     }
     const Vertex k = collapse(mesh_, plan);
@@ -467,7 +482,7 @@ void Remesher::fill_state(PassReport& r) const {
 
 PassReport Remesher::measure() const {
   PassReport r;
-  r.iteration = schedule_.round;
+  r.round = schedule_.round;
   fill_state(r);
   return r;
 }
@@ -481,7 +496,7 @@ PassReport Remesher::step(PassKind kind, const PassReport* previous, bool measur
   const auto t0 = Clock::now();
   PassReport r;
   r.kind = kind;
-  r.iteration = schedule_.round;
+  r.round = schedule_.round;
   switch (kind) {
     case PassKind::Split: split_pass(r); break;
     case PassKind::Collapse: collapse_pass(r); break;
@@ -520,20 +535,19 @@ void Remesher::set_schedule(const Schedule& s) {
   schedule_ = s;
   has_last_ = false;
   mark_all();
-  const int stages = std::max(0, options_.relaxation_stages);
-  if (stages > 0 && s.phase != Schedule::Phase::Initial && s.stage_started) {
-    mesh_.control().set_relaxation(static_cast<double>(s.stage + 1) / (stages + 1));
-    mesh_.refresh_values();
-  }
+  if (s.phase != Schedule::Phase::Initial && s.stage_started) set_stage_metric(s.stage);
+}
+
+std::vector<PassKind> Remesher::round_plan() const {
+  std::vector<PassKind> plan = {PassKind::Split, PassKind::Collapse, PassKind::Swap};
+  plan.insert(plan.end(), static_cast<std::size_t>(std::max(0, options_.smoothing_passes)), PassKind::Smooth);
+  return plan;
 }
 
 PassKind Remesher::next_pass() const {
   switch (schedule_.phase) {
     case Schedule::Phase::Initial: return options_.initial_swaps ? PassKind::Swap : PassKind::Split;
-    case Schedule::Phase::Round: {
-      static constexpr PassKind order[3] = {PassKind::Split, PassKind::Collapse, PassKind::Swap};
-      return schedule_.pass < 3 ? order[schedule_.pass] : PassKind::Smooth;
-    }
+    case Schedule::Phase::Round: return round_plan()[static_cast<std::size_t>(schedule_.pass)];
     case Schedule::Phase::Final:
     case Schedule::Phase::Done: break;
   }
@@ -556,54 +570,72 @@ PassReport Remesher::advance() {
   return r;
 }
 
+// Section 6's schedule, one pass per call:
+//   1. an initial swap pass ("the final result is better if this initial
+//      optimization is carried out");
+//   2. per stage (Remark 6: the relaxed metrics, then the target), rounds of
+//      round_plan() (steps 1-2 for every edge, then swaps and smoothing over
+//      what changed) until a round splits and collapses at most
+//      converged_share of the vertices, or max_rounds rounds;
+//   3. the final optimisation (vertices of valence < 4, smoothing 8-10 times).
 PassReport Remesher::advance_schedule() {
   Schedule& s = schedule_;
-  if (s.phase == Schedule::Phase::Done) throw std::logic_error("Remesher::advance: the schedule is done");
-  if (s.phase == Schedule::Phase::Initial) {
-    s.phase = Schedule::Phase::Round;
-    if (options_.initial_swaps) return record_state(step(PassKind::Swap, has_last_ ? &last_ : nullptr, true));
+  switch (s.phase) {
+    case Schedule::Phase::Done: throw std::logic_error("Remesher::advance: the schedule is done");
+    case Schedule::Phase::Initial:
+      s.phase = Schedule::Phase::Round;
+      if (options_.initial_swaps) return record_state(step(PassKind::Swap, previous(), true));
+      break;
+    case Schedule::Phase::Final:
+      s.phase = Schedule::Phase::Done;
+      return record_state(step(PassKind::Final, previous(), true));
+    case Schedule::Phase::Round: break;
   }
-  if (s.phase == Schedule::Phase::Final) {
-    s.phase = Schedule::Phase::Done;
-    return record_state(step(PassKind::Final, has_last_ ? &last_ : nullptr, true));
-  }
-  // A round pass; the first of a stage sets its relaxed metric (Remark 6).
-  const int stages = std::max(0, options_.relaxation_stages);
-  if (!s.stage_started) {
-    s.stage_started = true;
-    if (stages > 0) {
-      mesh_.control().set_relaxation(static_cast<double>(s.stage + 1) / (stages + 1));
-      mesh_.refresh_values();
-      mark_all();
-      has_last_ = false;
-    }
-  }
+  if (!s.stage_started) begin_stage();
   if (s.pass == 0) {
     ++s.round;
     ++s.stage_rounds;
     s.round_changes = 0;
   }
-  const int passes = 3 + std::max(0, options_.smoothing_passes);
-  const PassKind kind = next_pass();
-  const bool round_end = s.pass + 1 == passes;
-  PassReport r = step(kind, has_last_ ? &last_ : nullptr, round_end || options_.measure_every_pass);
-  if (kind == PassKind::Split || kind == PassKind::Collapse) s.round_changes += r.splits + r.collapses;
-  if (!round_end) {
+  const std::vector<PassKind> plan = round_plan();
+  const bool round_end = static_cast<std::size_t>(s.pass) + 1 == plan.size();
+  PassReport r = step(plan[static_cast<std::size_t>(s.pass)], previous(), round_end || options_.measure_every_pass);
+  s.round_changes += r.splits + r.collapses;  // only the split and collapse passes make either
+  if (round_end) {
+    end_round();
+  } else {
     ++s.pass;
-    return record_state(std::move(r));
-  }
-  s.pass = 0;
-  const bool converged = s.round_changes <= options_.converged_share * mesh_.mesh().n_vertices();
-  if (converged || s.stage_rounds >= options_.max_iterations) {
-    if (s.stage < stages) {
-      ++s.stage;
-      s.stage_rounds = 0;
-      s.stage_started = false;
-    } else {
-      s.phase = Schedule::Phase::Final;
-    }
   }
   return record_state(std::move(r));
+}
+
+void Remesher::set_stage_metric(int stage) {
+  const int stages = std::max(0, options_.relaxation_stages);
+  if (stages == 0) return;
+  mesh_.control().set_relaxation(static_cast<double>(stage + 1) / (stages + 1));
+  mesh_.refresh_values();
+}
+
+void Remesher::begin_stage() {
+  schedule_.stage_started = true;
+  if (options_.relaxation_stages <= 0) return;
+  set_stage_metric(schedule_.stage);
+  mark_all();
+  has_last_ = false;
+}
+
+void Remesher::end_round() {
+  Schedule& s = schedule_;
+  s.pass = 0;
+  const bool converged = s.round_changes <= options_.converged_share * mesh_.mesh().n_vertices();
+  if (!converged && s.stage_rounds < options_.max_rounds) return;
+  if (s.stage < std::max(0, options_.relaxation_stages)) {
+    ++s.stage;
+    s.stage_rounds = 0;
+    s.stage_started = false;
+  } else {
+    s.phase = Schedule::Phase::Final;
+  }
 }
 
 std::vector<PassReport> Remesher::run(const std::function<void(const PassReport&)>& progress,

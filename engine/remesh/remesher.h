@@ -9,7 +9,7 @@
 //
 //   Remesher r(adapted_mesh);
 //   PassReport s = r.step(PassKind::Split);   // one named pass
-//   std::vector<PassReport> all = r.run();    // rounds until (almost) nothing changes, then the final pass
+//   std::vector<PassReport> all = r.run();    // the schedule: rounds until (almost) nothing changes, then the final pass
 //   while (!r.finished()) show(r.advance());  // or the same schedule a pass at a time
 #pragma once
 #include <array>
@@ -26,7 +26,7 @@ namespace anisurf::remesh {
 
 struct RemeshOptions {
   OperatorOptions op;                // lmax 1.4, lmin 0.6 and the filters
-  int max_iterations = 30;           // rounds of split, collapse, swap, smooth in run()
+  int max_rounds = 30;               // rounds per stage in run() (the Schedule below)
   // run() stops when a round splits and collapses at most this share of the
   // vertices (0: only when nothing changes).
   double converged_share = 0.01;
@@ -42,7 +42,14 @@ struct RemeshOptions {
   bool valence_swaps = true;
   double valence_swap_gain = 0.6;
   bool local_swaps = true;           // section 6, step 2: swaps around each split / collapse
-  int max_swap_sweeps = 8;           // a swap pass stops after this many visits per edge
+  int max_local_swap_visits = 4;     // ... each edge of the vertex's link tried at most this often
+  int max_swap_visits = 8;           // a swap pass ends after this many visits per edge it started with
+  // Budget of a split or collapse pass (a guard against cycles that grows
+  // with the mesh: a refinement multiplies the triangles many times over in
+  // one pass): at most pops_per_triangle * max(triangles at the start,
+  // triangles now) + pops_base edges taken from its heap.
+  int pops_per_triangle = 20;
+  int pops_base = 1000;
   // Remark 6: for metrics far from the initial mesh, run() first adapts to
   // `relaxation_stages` relaxed metrics (ControlSpace::set_relaxation with
   // t = 1/(n+1) ... n/(n+1)), then to the target. 0: off.
@@ -55,15 +62,17 @@ struct RemeshOptions {
   // the mesh saved per pass; step() always measures).
   bool measure_every_pass = true;
   // Split passes work in generations: the edges longer than lmax at the
-  // start, longest first, then a swap sweep around the new vertices, again
+  // start, longest first, then a swap pass around the new vertices, again
   // with the long edges left. On a coarse mesh this refines like 1:4
   // subdivisions; splitting longest-first with local swaps after each split
   // and the new long edges in the same heap also splits the long medians of
   // half-split triangles and overshoots (isofine with midpoint splits: 313k
   // vertices after the first pass, 218k at the end, 96k collapses to get
-  // there). A generation that splits under 1% of the vertices is the last:
-  // the few long edges left are split the classic way.
+  // there). A generation that splits under few_splits_share of the vertices
+  // is the last: the few long edges left are split the classic way.
   bool split_by_generation = true;
+  int max_split_generations = 64;
+  double few_splits_share = 0.01;
 };
 
 enum class PassKind { Split, Collapse, Swap, Smooth, Final };
@@ -74,11 +83,12 @@ inline constexpr int kRejectionCount = static_cast<int>(Rejection::kCount);
 // What one pass did.
 struct PassReport {
   PassKind kind = PassKind::Split;
-  int iteration = 0;
+  int round = 0;  // the schedule's round when the pass ran (Schedule::round): 0 for the initial swaps
   int splits = 0, collapses = 0, swaps = 0, moves = 0;
   int removed_vertices = 0;  // final pass: interior vertices of valence < 4
   int split_unprojected = 0;  // splits at the straight midpoint (projection refused)
-  // Refusals per filter (indexed by Rejection), all operators together.
+  // Refusals per filter (indexed by Rejection), all operators together;
+  // what counts as a refusal: refuse() in remesher.cpp.
   std::array<int, kRejectionCount> rejected{};
   // State after the pass: sizes, edge lengths in the metric (bins of
   // kLengthBins: 0, 0.3, 0.6, 0.71, 0.9, 1.3, 1.41, 2, 5), quality eq. 17.
@@ -102,9 +112,11 @@ struct PassReport {
 };
 
 // Where run()'s schedule stands: initial swaps; per relaxation stage
-// (Remark 6), rounds of split, collapse, swap and smoothing until a round
-// splits and collapses at most converged_share of the vertices (or
-// max_iterations rounds); the final optimisation. A value, so that a caller
+// (Remark 6), rounds (Remesher::round_plan: split, collapse, swap,
+// smoothing) until a round splits and collapses at most converged_share of
+// the vertices (or max_rounds rounds); the final optimisation. The loop
+// levels, outermost first: cycle (adapt.h, outside the remesher) > stage >
+// round > pass > generation (split passes only). A value, so that a caller
 // stepping the schedule (the editor) can keep it beside a copy of the mesh
 // and resume from there (Remesher::set_schedule).
 struct Schedule {
@@ -112,9 +124,9 @@ struct Schedule {
   Phase phase = Phase::Initial;
   int stage = 0;               // relaxation stage, 0 .. relaxation_stages
   bool stage_started = false;  // the stage's metric is set
-  int round = 0;               // rounds so far, all stages (PassReport::iteration)
+  int round = 0;               // rounds so far, all stages (PassReport::round)
   int stage_rounds = 0;        // rounds of this stage
-  int pass = 0;                // next pass of the round: 0 split, 1 collapse, 2 swap, 3... smoothing
+  int pass = 0;                // next pass of the round: an index into Remesher::round_plan()
   int round_changes = 0;       // splits + collapses of the round so far
 };
 
@@ -138,6 +150,9 @@ class Remesher {
   // `progress` after each pass and a `stop` check between passes.
   PassKind next_pass() const;
   PassReport advance();
+  // The passes of one round (section 6, steps 1-2, then sections 5.4-5.5 over
+  // the mesh): split, collapse, swap, then smoothing_passes smoothings.
+  std::vector<PassKind> round_plan() const;
   bool finished() const { return schedule_.phase == Schedule::Phase::Done; }
   const Schedule& schedule() const { return schedule_; }
   // Resumes the schedule at `s` (the mesh being the one `s` was taken with):
@@ -169,14 +184,32 @@ class Remesher {
   // Keeps the state of r (the mesh's now) for the next pass of the schedule.
   PassReport record_state(PassReport r);
   PassReport advance_schedule();
+  // The report of the schedule's last pass, if it still holds the mesh's state.
+  const PassReport* previous() const { return has_last_ ? &last_ : nullptr; }
+  // Remark 6: sets stage `stage`'s relaxed metric (t = (stage + 1) / (stages + 1)).
+  void set_stage_metric(int stage);
+  // The first pass of a stage: its metric is set, every vertex is visited anew.
+  void begin_stage();
+  // After the last pass of a round: the next round, the next stage or the
+  // final pass, by the round's changes (converged_share) and max_rounds.
+  void end_round();
   // Polls the interrupt check (every 256 calls); sticky within a pass.
   bool interrupted(PassReport& r);
   void split_pass(PassReport& r);
-  // Splits the edges longer than lmax, longest first (with local swaps and
-  // the long edges the splits make when follow_new_edges); returns the
-  // number of splits and swaps instead.
-  int split_generation(PassReport& r, bool follow_new_edges);
   void collapse_pass(PassReport& r);
+  // Section 6, step 1 (with Remark 5) for the edges outside [lmin, lmax] on
+  // one side (Edges: SplitEdges or CollapseEdges in remesher.cpp): a heap of
+  // them, the farthest from the band first; each popped edge is checked
+  // again, refused if in the cache, planned (can_split / can_collapse) and
+  // applied; when follow_new_edges, the edges of the new vertex still
+  // outside join the heap. Returns the number of operations applied.
+  template <class Edges>
+  int priority_pass(PassReport& r, bool follow_new_edges);
+  // The apply step of priority_pass, with its bookkeeping (cache, touched,
+  // and step 2's local swaps when following the new edges); returns the
+  // vertex whose edges are followed (invalid: none).
+  Vertex apply(PassReport& r, Corner c, const SplitPlan& plan, bool follow_new_edges);
+  Vertex apply(PassReport& r, Corner c, const CollapsePlan& plan, bool follow_new_edges);
   void swap_pass(PassReport& r);
   void smooth_pass(PassReport& r);
   void final_pass(PassReport& r);
