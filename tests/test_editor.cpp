@@ -351,6 +351,21 @@ TEST_CASE("editor: script errors name the file and the line") {
                 error_of("lmin 2"));
   CHECK_MESSAGE(error_of("frobnicate").find(at + "unknown command 'frobnicate'") != std::string::npos, error_of("frobnicate"));
   CHECK_MESSAGE(error_of("open /nonexistent/x.mesh").find(at + "open: ") != std::string::npos, error_of("open /nonexistent/x.mesh"));
+  // Values out of range are refused on their own line, the metric untouched.
+  const MetricField before = s.metric();
+  CHECK_MESSAGE(error_of("paint 1 0 0 0.5 1e-308").find(at + "paint: a size of 1e-308 gives no metric") != std::string::npos,
+                error_of("paint 1 0 0 0.5 1e-308"));
+  CHECK_MESSAGE(error_of("paint 1 0 0 0.5 0.1 1e12 1 0 0").find(at + "paint: the brush gives no metric") != std::string::npos,
+                error_of("paint 1 0 0 0.5 0.1 1e12 1 0 0"));
+  CHECK(same(s.metric(), before));
+  CHECK(!s.in_stroke());
+  CHECK_MESSAGE(error_of("paint 1 0 0 0.5 1e999").find(at + "paint: SIZE is out of range") != std::string::npos,
+                error_of("paint 1 0 0 0.5 1e999"));
+  CHECK_MESSAGE(error_of("hmax -1").find(at + "hmax expects a size > 0, or 0 for none") != std::string::npos, error_of("hmax -1"));
+  CHECK_MESSAGE(error_of("max-aniso 0.5").find(at + "max-aniso expects a ratio >= 1") != std::string::npos,
+                error_of("max-aniso 0.5"));
+  CHECK_MESSAGE(error_of("timeline -1").find(at + "timeline: I must be a whole number >= 0") != std::string::npos,
+                error_of("timeline -1"));
   // A failing metric leaves the session as it was.
   CHECK(s.settings().source == MetricSettings::Source::Sol);
   CHECK(!s.can_undo());

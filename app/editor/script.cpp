@@ -1,6 +1,7 @@
 #include "editor/script.h"
 
 #include <cstdio>
+#include <cstdlib>
 
 #include <cmath>
 #include <fstream>
@@ -47,14 +48,22 @@ struct LineError {
 double number(const ScriptLine& l, std::size_t i, const char* what) {
   if (i >= l.words.size()) throw LineError{l.words[0] + ": missing " + what};
   const std::string& s = l.words[i];
-  try {
-    std::size_t used = 0;
-    double v = std::stod(s, &used);
-    if (used != s.size() || !std::isfinite(v)) throw std::invalid_argument(s);
-    return v;
-  } catch (const std::exception&) {
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (s.empty() || end != s.c_str() + s.size())
     throw LineError{l.words[0] + ": " + what + " expects a number, got '" + s + "'"};
-  }
+  // Underflow to a subnormal or zero is a number; overflow is not.
+  if (!std::isfinite(v)) throw LineError{l.words[0] + ": " + what + " is out of range: '" + s + "'"};
+  return v;
+}
+
+// A whole number >= lowest.
+int whole_number(const ScriptLine& l, std::size_t i, const char* what, int lowest) {
+  const double x = number(l, i, what);
+  if (x < lowest || x != std::floor(x) || x > 1e9)
+    throw LineError{l.words[0] + ": " + what + " must be a whole number >= " + std::to_string(lowest) + ", got '" +
+                    l.words[i] + "'"};
+  return static_cast<int>(x);
 }
 
 void arity(const ScriptLine& l, std::size_t lo, std::size_t hi, const char* usage) {
@@ -152,8 +161,15 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
       m.hausd_bound = x;
     }
     if (cmd == "hmin") m.hmin = x;
-    if (cmd == "hmax") m.hmax = x > 0 ? x : INFINITY;
-    if (cmd == "max-aniso") m.max_aniso = x >= 1 ? x : INFINITY;
+    if (cmd == "hmax") {
+      if (x < 0) throw LineError{"hmax expects a size > 0, or 0 for none"};
+      m.hmax = x > 0 ? x : INFINITY;
+    }
+    if (cmd == "max-aniso") {
+      if (x != 0 && !(x >= 1)) throw LineError{"max-aniso expects a ratio >= 1, or 0 for none"};
+      m.max_aniso = x >= 1 ? x : INFINITY;
+    }
+    if (cmd == "hmin" && x < 0) throw LineError{"hmin expects a size >= 0"};
     s.set_settings(m);
   } else if (cmd == "lmin" || cmd == "lmax") {
     arity(l, 1, 1, (cmd + " L").c_str());
@@ -189,6 +205,7 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
     b.radius = number(l, 4, "RADIUS");
     b.size = number(l, 5, "SIZE");
     if (!(b.radius > 0) || !(b.size > 0)) throw LineError{"paint: RADIUS and SIZE must be > 0"};
+    // The sizes must give a metric: 1 / h^2 finite and > 0.
     Vec3 dir;
     b.stretch = 1;
     if (l.words.size() == 10) {
@@ -197,6 +214,10 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
       dir = Vec3(number(l, 7, "DIRX"), number(l, 8, "DIRY"), number(l, 9, "DIRZ"));
       if (b.direction == Brush::Direction::Stroke && !(norm2(dir) > 0)) throw LineError{"paint: the direction is zero"};
     }
+    for (const double h : {b.size, b.size * b.stretch})
+      if (!std::isnormal(1.0 / (h * h)))
+        throw LineError{"paint: a size of " + l.words[5] + (b.stretch > 1 ? " x " + l.words[6] : std::string()) +
+                        " gives no metric (1/h^2 must be a finite number > 0)"};
     s.dab(c, dir);
   } else if (cmd == "stroke") {
     need_mesh();
@@ -241,7 +262,7 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
     s.reset();
   } else if (cmd == "timeline") {
     arity(l, 1, 1, "timeline I");
-    s.scrub(static_cast<int>(number(l, 1, "I")));
+    s.scrub(whole_number(l, 1, "I", 0));
   } else if (cmd == "select-bin") {
     need_mesh();
     arity(l, 2, 2, "select-bin length|quality I|worst");

@@ -277,7 +277,6 @@ void EditorSession::open_stroke() {
 void EditorSession::dab(const Vec3& centre, const Vec3& direction) {
   if (!input_) throw Error("no mesh: open one first");
   const bool own = !stroke_;
-  if (own) open_stroke();
   const Brush& b = brush_;
   if (!(b.radius > 0) || !(b.size > 0) || !(b.stretch >= 1) || !(b.strength > 0))
     throw Error("brush: need radius > 0, size > 0, stretch >= 1 and strength > 0");
@@ -332,6 +331,13 @@ void EditorSession::dab(const Vec3& centre, const Vec3& direction) {
     }
     updates.emplace_back(v, blend(metric_[v], target, w));
   }
+  // Nothing changes unless every painted metric is one (sizes out of range
+  // overflow 1/h^2).
+  for (const auto& [v, M] : updates)
+    if (!is_finite(M) || !is_spd(M))
+      throw Error("the brush gives no metric at vertex " + std::to_string(v + 1) + " (" + metric_problem(M) +
+                  "): size or stretch out of range");
+  if (own) open_stroke();  // after the checks: a refused dab leaves no stroke open
   MetricEdit& e = *stroke_;
   for (auto& [v, M] : updates) {
     if (stroke_index_[v] < 0) {
