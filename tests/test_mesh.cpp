@@ -315,6 +315,17 @@ TEST_CASE("refused input names the problem") {
   MeshData nan = tetrahedron();
   nan.vertices[1].y = NAN;
   CHECK_THROWS_AS(build_mesh(nan, m), TopologyError);
+  // Coordinates whose squares overflow (1e155, 1e308) are refused naming the vertex.
+  for (double big : {1e155, -1e308}) {
+    MeshData huge = tetrahedron();
+    huge.vertices[2].x = big;
+    CHECK_THROWS_WITH_AS(build_mesh(huge, m, {}, "huge.stl"), doctest::Contains("huge.stl: vertex 3 has a coordinate beyond"),
+                         TopologyError);
+  }
+  MeshData large = tetrahedron();
+  for (Vec3& p : large.vertices) p = p * 1e140;  // large but measurable: built
+  CHECK_NOTHROW(build_mesh(large, m));
+  CHECK(std::isfinite(m.bbox().diagonal()));
 }
 
 TEST_CASE("tags, references, normals and fields survive build and to_mesh_data") {

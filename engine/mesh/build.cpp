@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <numeric>
 #include <unordered_map>
 
@@ -22,9 +23,21 @@ std::uint64_t edge_key(int a, int b) {
 void check_input(const MeshData& d, const std::string& source) {
   if (d.triangles.empty()) throw TopologyError(source + ": the mesh has no triangle (nothing to build)");
   const int nv = static_cast<int>(d.vertices.size());
-  for (std::size_t i = 0; i < d.vertices.size(); ++i)
-    if (!is_finite(d.vertices[i]))
+  // Squared lengths and the bounding box diagonal must stay finite: a
+  // coordinate beyond kMaxCoordinate would overflow them (welding, metric
+  // lengths, areas) and turn every measure into inf or NaN.
+  constexpr double kMaxCoordinate = 1e150;
+  for (std::size_t i = 0; i < d.vertices.size(); ++i) {
+    const Vec3& p = d.vertices[i];
+    if (!is_finite(p))
       throw TopologyError(source + ": vertex " + std::to_string(i + 1) + " has a non-finite coordinate");
+    if (std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) > kMaxCoordinate) {
+      char msg[160];
+      std::snprintf(msg, sizeof msg, ": vertex %zu has a coordinate beyond +-1e150 (%g %g %g): lengths would overflow; "
+                    "rescale the mesh", i + 1, p.x, p.y, p.z);
+      throw TopologyError(source + msg);
+    }
+  }
   for (std::size_t t = 0; t < d.triangles.size(); ++t)
     for (int v : d.triangles[t])
       if (v < 0 || v >= nv)
