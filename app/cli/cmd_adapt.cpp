@@ -297,11 +297,13 @@ AdaptFiles read_adapt_inputs(AdaptCommandLine& c) {
   return f;
 }
 
-// OUT.sol: the metric (Mmg reads it); OUT.fields.sol: --interpolate's fields.
+// OUT.mesh, OUT.sol (the metric: Mmg reads it) and OUT.fields.sol
+// (--interpolate's fields), written as one set: all or none replaced.
 void write_adapt_outputs(const AdaptCommandLine& c, const remesh::AdaptResult& r,
                          const std::vector<std::string>& interpolated_names, std::string* fields_path) {
   const SurfaceMesh& t1 = r.mesh;
-  save_mesh(c.out, t1);
+  OutputSet outputs;
+  save_mesh(outputs.temporary(c.out), t1);
   std::vector<FieldData> metric(1);  // one field, written without a copy of its values
   FieldData& mf = metric.front();
   mf.info = FieldInfo{"metric", FieldKind::Tensor, 6};
@@ -318,11 +320,12 @@ void write_adapt_outputs(const AdaptCommandLine& c, const remesh::AdaptResult& r
       f.values.insert(f.values.end(), prop[Vertex(v)].begin(), prop[Vertex(v)].begin() + info.ncomp);
     interpolated.push_back(std::move(f));
   }
-  write_sol(sol_path_for(c.out), metric, t1.vertex_capacity(), 3);
+  write_sol(outputs.temporary(sol_path_for(c.out)), metric, t1.vertex_capacity(), 3);
   if (!interpolated.empty()) {
     *fields_path = fields_path_for(c.out);
-    write_sol(*fields_path, interpolated, t1.vertex_capacity(), 3);
+    write_sol(outputs.temporary(*fields_path), interpolated, t1.vertex_capacity(), 3);
   }
+  outputs.commit();
 }
 
 void write_report(const AdaptCommandLine& c, const remesh::AdaptResult& r) {
@@ -410,6 +413,8 @@ int run_adapt(const std::vector<std::string>& args) {
   AdaptCommandLine c = parse_adapt(args);
   check_writable(c.out);
   check_writable(sol_path_for(c.out));
+  // Temporaries of earlier runs into the same outputs that were killed.
+  for (const std::string& path : {c.out, sol_path_for(c.out), fields_path_for(c.out)}) remove_stale_temporaries(path);
   const auto t_read = std::chrono::steady_clock::now();
   AdaptFiles files = read_adapt_inputs(c);
   c.options.metric = metric_recipe(c.metric, std::move(files.sol_metric), c.hausd, c.hgrad);
