@@ -66,6 +66,10 @@ inline constexpr double kBytesPerPredictedVertex = 400;
 
 // What an adaptation starts from.
 struct AdaptInput {
+  AdaptInput() = default;
+  // T_0 alone (no file numbering, T_G = T_0).
+  AdaptInput(SurfaceMesh t0) : mesh(std::move(t0)) {}  // NOLINT: implicit, remesh::adapt({mesh}, o)
+
   // T_0 (and T_G unless `geometry`): positions, tags, references and the
   // solution fields to interpolate (every field of the mesh).
   SurfaceMesh mesh;
