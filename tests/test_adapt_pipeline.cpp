@@ -6,10 +6,12 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "io/mesh_io.h"
+#include "mesh/stats.h"
 #include "metric/surface_metric.h"
 #include "remesh/adapt.h"
 #include "test_geometry_util.h"
@@ -192,4 +194,33 @@ TEST_CASE("adapt: a metric whose predicted output cannot fit in memory is refuse
   CHECK(status != 0);
   CHECK(text.find("predicts") != std::string::npos);
   CHECK(!std::filesystem::exists(dir / "out.mesh"));
+}
+
+TEST_CASE("anisurf adapt --weld: a triangle soup in any format adapts as one surface") {
+  const auto dir = test::temp_dir("adapt_weld");
+  const std::string soup = (dir / "soup.mesh").string();
+  {
+    // The unit square as two triangles that share no vertex (6 vertices).
+    std::ofstream f(soup);
+    f << "MeshVersionFormatted 2\nDimension 3\nVertices\n6\n"
+         "0 0 0 0\n1 0 0 0\n1 1 0 0\n0 0 0 0\n1 1 0 0\n0 1 0 0\nTriangles\n2\n1 2 3 0\n4 5 6 0\nEnd\n";
+  }
+  auto adapted = [&](const std::string& extra, const std::string& name) {
+    int status = -1;
+    const std::string out = (dir / name).string();
+    test::capture(std::string(ANISURF_BINARY) + " adapt '" + soup + "' --size 0.1 -v 0 " + extra + " -o '" + out + "'",
+                  &status);
+    REQUIRE(status == 0);
+    return compute_stats(load_mesh(out));
+  };
+  const MeshStats apart = adapted("", "apart.mesh");
+  const MeshStats welded = adapted("--weld 0", "welded.mesh");
+  CHECK(apart.components == 2);
+  CHECK(welded.components == 1);
+  CHECK(welded.boundary_loops == 1);
+  int status = -1;
+  test::capture(std::string(ANISURF_BINARY) + " adapt '" + soup + "' --size 0.1 --weld 0.5 -o '" +
+                    (dir / "x.mesh").string() + "' 2>&1",
+                &status);
+  CHECK(status == 2);  // a usage error
 }

@@ -63,6 +63,9 @@ const char* kAdaptHelp =
     "  --surface S          g1: the G1 Bezier surface of section 3 at the parameters of\n"
     "                       the projection onto the input triangles (default);\n"
     "                       g1-closest: its closest point (slower); polyhedral\n"
+    "  --weld TOL           merge the vertices closer than TOL x the bounding box\n"
+    "                       diagonal, in every format (0: identical positions; a soup\n"
+    "                       of triangles becomes one surface)\n"
     "  --geometry G         T_G: another mesh of the surface to project onto (e.g. a\n"
     "                       finer one); IN stays T_0, the metric's support\n"
     "  --rounds N           at most N rounds of split/collapse/swap/smooth per stage\n"
@@ -155,6 +158,7 @@ nlohmann::json pass_json(const remesh::PassReport& r) {
 // recipe is completed once the files are read).
 struct AdaptCommandLine {
   std::string in, out, geometry, report, interpolate;
+  BuildOptions build;  // --weld
   MetricSourceOptions metric;
   remesh::AdaptOptions options;
   double hausd = 0, hgrad = 1.3;
@@ -203,6 +207,12 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
   const std::string interpolation = p.option("--interpolation");
   const std::string surface = p.option("--surface");
   c.geometry = p.option("--geometry");
+  const double weld = p.option_double("--weld", -1);
+  if (weld != -1) {
+    if (!(weld >= 0 && weld < 0.1)) throw UsageError{"--weld expects a tolerance relative to the bounding box in [0, 0.1)"};
+    c.build.merge = BuildOptions::Merge::Always;  // a soup of any format
+    c.build.merge_tolerance = weld;
+  }
   c.report = p.option("--report");
   c.interpolate = p.option("--interpolate");
   o.remesh.record_touched = !c.report.empty();  // only the JSON report counts them
@@ -263,7 +273,7 @@ struct AdaptFiles {
 AdaptFiles read_adapt_inputs(AdaptCommandLine& c) {
   AdaptFiles f;
   BuildReport report;
-  f.input.mesh = load_mesh(c.in, &report);
+  f.input.mesh = load_mesh(c.in, &report, c.build);
   f.input.vertex_origin = report.vertex_origin;
   if (!c.metric.sol.empty()) {
     // The metric is read into its own array; T_0 keeps no copy as a field.
