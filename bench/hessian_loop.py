@@ -7,7 +7,7 @@ usage: hessian_loop.py MESH --f EXPR --error EPS [--cycles N] [--case CASE] [--n
 Each cycle runs
     anisurf metric MESH_k --hessian-of EXPR --error EPS --norm P [metric args] -o k.sol
     anisurf adapt  MESH_k -sol k.sol -hgrad -1 [adapt args] -o MESH_{k+1}
-and measures MESH_{k+1} with /work/shared/bench/interp_error.py (L2 error of the P1
+and measures MESH_{k+1} with ../shared/bench/interp_error.py (L2 error of the P1
 interpolant of CASE: case1 | case2 | case3 or a Python expression in x, y). Prints one
 row per cycle: vertices, triangles, L2 and Linf errors, and the predicted vertex count
 of the metric. MESH may be "square2": the unit square in 2 triangles (the report's
@@ -18,7 +18,7 @@ expression's own with hessian_of_expression).
 
 examples:
   bench/hessian_loop.py square2 --f "100*x^2" --case case1 --error 0.01 --cycles 6
-  bench/hessian_loop.py /work/shared/bench/inputs/square3d.mesh --f "(x<0.3)?100*x^2:5" \\
+  bench/hessian_loop.py ../shared/bench/inputs/square3d.mesh --f "(x<0.3)?100*x^2:5" \\
       --case case2 --error 0.0022 --cycles 6
 """
 import argparse
@@ -31,7 +31,8 @@ import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_BIN = os.path.join(HERE, "..", "build", "app", "anisurf")
-EVALUATOR = "/work/shared/bench/interp_error.py"
+# The shared directory beside the repository (--shared to change it).
+DEFAULT_SHARED = os.path.join(HERE, "..", "..", "shared")
 
 SQUARE2 = """MeshVersionFormatted 2
 Dimension 3
@@ -56,8 +57,8 @@ def run(cmd):
     return r.stdout
 
 
-def measure(mesh, case):
-    out = run([sys.executable, EVALUATOR, mesh, "--f", case, "--json"])
+def measure(evaluator, mesh, case):
+    out = run([sys.executable, evaluator, mesh, "--f", case, "--json"])
     return json.loads(out)
 
 
@@ -70,10 +71,14 @@ def main():
     ap.add_argument("--cycles", type=int, default=6)
     ap.add_argument("--norm", default="2", help="p of the L^p metric (default 2), or inf")
     ap.add_argument("--anisurf", default=DEFAULT_BIN)
+    ap.add_argument("--shared", default=DEFAULT_SHARED, help="the shared directory (bench/interp_error.py)")
     ap.add_argument("--workdir")
     ap.add_argument("--metric-arg", action="append", default=[])
     ap.add_argument("--adapt-arg", action="append", default=[])
     a = ap.parse_args()
+    evaluator = os.path.join(a.shared, "bench", "interp_error.py")
+    if not os.path.exists(evaluator):
+        sys.exit("hessian_loop.py: no evaluator at %s (give --shared DIR)" % evaluator)
 
     work = a.workdir or tempfile.mkdtemp(prefix="hessian_loop_")
     os.makedirs(work, exist_ok=True)
@@ -84,7 +89,7 @@ def main():
             f.write(SQUARE2)
     case = a.case or a.f.replace("^", "**")
 
-    m0 = measure(mesh, case)
+    m0 = measure(evaluator, mesh, case)
     print("# %s  f = %s  error %s  norm %s  metric args %s" % (a.mesh, a.f, a.error, a.norm,
                                                               " ".join(a.metric_arg) or "-"))
     print("%5s %7s %7s %12s %12s %10s" % ("cycle", "V", "T", "L2", "Linf", "predicted"))
@@ -95,7 +100,7 @@ def main():
         log = run([a.anisurf, "metric", mesh, "--hessian-of", a.f, "--error", a.error, "--norm", a.norm] + a.metric_arg + ["-o", sol])
         pred = re.search(r"predicted vertices (\d+)", log)
         run([a.anisurf, "adapt", mesh, "-sol", sol, "-hgrad", "-1"] + a.adapt_arg + ["-o", out_mesh])
-        m = measure(out_mesh, case)
+        m = measure(evaluator, out_mesh, case)
         print("%5d %7d %7d %12.4e %12.4e %10s" % (k, m["vertices"], m["triangles"], m["L2"], m["Linf"],
                                                   pred.group(1) if pred else "?"), flush=True)
         mesh = out_mesh
