@@ -20,6 +20,7 @@
 
 #include "geometry/features.h"
 #include "io/mesh_io.h"
+#include "locate/closest_point.h"
 #include "mesh/build.h"
 #include "metric/metric_field.h"
 #include "remesh/remesher.h"
@@ -74,14 +75,6 @@ SurfaceMesh adapt_checked(const SurfaceMesh& input, const MetricAt& metric_at, P
   return copy_of(adapted.mesh());
 }
 
-// Distance from x to the segment a-b.
-double segment_distance(const Vec3& x, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = b - a;
-  const double l2 = norm2(ab);
-  const double t = l2 > 0 ? std::clamp(dot(x - a, ab) / l2, 0.0, 1.0) : 0.0;
-  return norm(x - (a + t * ab));
-}
-
 struct Segment {
   Vec3 a, b;
 };
@@ -98,7 +91,7 @@ std::vector<Segment> feature_segments(const SurfaceMesh& m) {
 }
 double distance_to(const std::vector<Segment>& curves, const Vec3& x) {
   double d = INFINITY;
-  for (const Segment& s : curves) d = std::min(d, segment_distance(x, s.a, s.b));
+  for (const Segment& s : curves) d = std::min(d, std::sqrt(point_segment_distance2(x, s.a, s.b)));
   return d;
 }
 

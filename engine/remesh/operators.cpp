@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "geometry/features.h"
+#include "locate/closest_point.h"
 #include "mesh/operators.h"
 
 namespace anisurf::remesh {
@@ -29,14 +30,6 @@ double cos_deg(double deg) {
 }
 
 Vec3 raw_normal(const Vec3& a, const Vec3& b, const Vec3& c) { return cross(b - a, c - a); }
-
-// Distance from x to the segment a-b.
-double segment_distance(const Vec3& x, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = b - a;
-  const double l2 = norm2(ab);
-  const double t = l2 > 0 ? std::clamp(dot(x - a, ab) / l2, 0.0, 1.0) : 0.0;
-  return norm(x - (a + t * ab));
-}
 
 // The angle thresholds of the options as cosines (computed once per check).
 struct Limits {
@@ -326,7 +319,7 @@ Rejection check_curve_collapse(AdaptedMesh& m, Vertex r, Vertex k, const Placeme
       const Vec3 po = mesh.position(f.other);
       const double straight = o.straight_curve_sag * norm(po - p.position);
       const bool turns = dot(dir(pw, po), dir(p.position, po)) < cos_turn;
-      const double off = segment_distance(pw, p.position, po);
+      const double off = std::sqrt(point_segment_distance2(pw, p.position, po));
       if (turns && off > straight) return Rejection::Tangent;
       const double sag = std::max(off, midpoint_off_curve(m, p.position, f.other));
       if (!(sag <= curve_sag_tolerance(m, p, f.other, o))) return Rejection::Tangent;
