@@ -48,7 +48,9 @@ const char* kAdaptHelp =
     "  --hmin A --hmax B    size bounds (also -hmin -hmax); --max-aniso K\n"
     "options:\n"
     "  --hausd D            chordal deviation: the metric is intersected with the\n"
-    "                       curvature metric of D (also -hausd)\n"
+    "                       curvature metric of D (also -hausd); new vertices stay\n"
+    "                       within D / 5 of the input surface and feature curves sag\n"
+    "                       by D at most\n"
     "  --hgrad R            size gradation ratio (default 1.3, Mmg's); -1 or 0: off\n"
     "  --ar DEG             ridge detection angle (default 45); --nr: no detection\n"
     "                       (also -ar, -nr); ridges and boundaries stay curves, corners stay\n"
@@ -66,6 +68,11 @@ const char* kAdaptHelp =
     "  --weld TOL           merge the vertices closer than TOL x the bounding box\n"
     "                       diagonal, in every format (0: identical positions; a soup\n"
     "                       of triangles becomes one surface)\n"
+    "  --free-surface       new vertices follow the G1 surface wherever it goes; by\n"
+    "                       default they stay near the input's triangles (within 1/20\n"
+    "                       of the size, or the sag a smooth surface through them has;\n"
+    "                       --hausd D: D / 5), which on a coarse smooth input (the\n"
+    "                       report's section 7.2) keeps them partly on its facets\n"
     "  --geometry G         T_G: another mesh of the surface to project onto (e.g. a\n"
     "                       finer one); IN stays T_0, the metric's support\n"
     "  --rounds N           at most N rounds of split/collapse/swap/smooth per stage\n"
@@ -80,9 +87,9 @@ const char* kAdaptHelp =
     "                       (default 25)\n"
     "  --curve-sag S        ... and largest distance of a new segment from the G1\n"
     "                       feature curve, relative to the size the metric asks for\n"
-    "                       along it (default 0.02; a straight curve coarsens freely,\n"
-    "                       an arc of radius r to sizes of 8 S r; 0.1 lets the metric\n"
-    "                       win on the report's 7.3 crease)\n"
+    "                       along it (default 0.1; a straight curve coarsens freely,\n"
+    "                       an arc of radius r to sizes of 8 S r), and at most the\n"
+    "                       chordal deviation --hausd)\n"
     "  --max-memory MB      refuse, before any pass, a metric whose predicted output\n"
     "                       needs more (about 400 bytes per predicted vertex; default:\n"
     "                       the machine's memory)\n"
@@ -195,6 +202,7 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
   o.remesh.op.lmax = p.option_double("--lmax", o.remesh.op.lmax);
   o.remesh.op.max_curve_turn_deg = p.option_double("--curve-turn", o.remesh.op.max_curve_turn_deg);
   o.remesh.op.curve_sag = p.option_double("--curve-sag", o.remesh.op.curve_sag);
+  if (p.flag("--free-surface")) o.input_bound.enabled = false;
   o.remesh.max_rounds = int_option(p, "--iterations", o.remesh.max_rounds, 1, "a number of rounds >= 1");
   o.remesh.max_rounds = int_option(p, "--rounds", o.remesh.max_rounds, 1, "a number of rounds >= 1");
   o.remesh.relaxation_stages = int_option(p, "--relax", 0, 0, "a number of stages >= 0");

@@ -81,8 +81,9 @@ void Adaptation::rebuild_from(const Snapshot& s) {
   }
   remesher_.reset();
   adapted_.reset();
-  adapted_ = std::make_unique<remesh::AdaptedMesh>(s.mesh, *geometry_, *control_, settings_.length);
-  remesher_ = std::make_unique<remesh::Remesher>(*adapted_, settings_.remesh);
+  adapted_ = std::make_unique<remesh::AdaptedMesh>(s.mesh, *geometry_, *control_, settings_.length, false,
+                                                   remesh::input_bound_of(settings_));
+  remesher_ = std::make_unique<remesh::Remesher>(*adapted_, remesh::remesh_options_of(settings_));
   remesher_->set_schedule(s.schedule);
 }
 

@@ -1,5 +1,6 @@
 #include "geometry/features.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -34,6 +35,15 @@ double angle_between(const Vec3& a, const Vec3& b) {
   return std::atan2(norm(cross(a, b)), dot(a, b));
 }
 
+// True if t's normal is numerically meaningful: its area is not negligible
+// against its longest edge squared.
+bool has_reliable_normal(const SurfaceMesh& mesh, Triangle t, double area_ratio) {
+  double longest2 = 0;
+  for (int k = 0; k < 3; ++k)
+    longest2 = std::max(longest2, norm2(mesh.position(mesh.vertex(t, (k + 1) % 3)) - mesh.position(mesh.vertex(t, k))));
+  return 0.5 * norm(mesh.triangle_normal(t)) > area_ratio * longest2;
+}
+
 }  // namespace
 
 std::vector<FeatureEdgeAt> feature_edges_at(const SurfaceMesh& mesh, Vertex v) {
@@ -55,7 +65,7 @@ std::vector<FeatureEdgeAt> feature_edges_at(const SurfaceMesh& mesh, Vertex v) {
 FeatureReport detect_features(SurfaceMesh& mesh, const FeatureOptions& options) {
   FeatureReport rep;
   mesh.update_boundary_tags();
-  const double ridge_angle = options.ridge_angle_deg * std::numbers::pi / 180.0;
+  const double ridge_angle = (options.ridge_angle_deg - options.ridge_tolerance_deg) * std::numbers::pi / 180.0;
   const double corner_angle = options.corner_angle_deg * std::numbers::pi / 180.0;
 
   // 1. edges: file tags, dihedral angle, reference interfaces
@@ -70,8 +80,9 @@ FeatureReport detect_features(SurfaceMesh& mesh, const FeatureOptions& options) 
       ++rep.interface_edges;
       continue;
     }
-    if (options.detect_ridges &&
-        angle_between(mesh.triangle_normal(tri), mesh.triangle_normal(other)) > ridge_angle) {
+    if (options.detect_ridges && has_reliable_normal(mesh, tri, options.degenerate_area_ratio) &&
+        has_reliable_normal(mesh, other, options.degenerate_area_ratio) &&
+        angle_between(mesh.triangle_normal(tri), mesh.triangle_normal(other)) >= ridge_angle) {
       mesh.add_edge_tag(c, kRidge);
       ++rep.detected_ridges;
     }

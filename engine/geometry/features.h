@@ -14,10 +14,16 @@ namespace anisurf {
 
 struct FeatureOptions {
   // Ridges: an interior edge whose two triangle normals differ by more than
-  // ridge_angle_deg is tagged kRidge (Mmg's -ar, default 45 degrees).
+  // ridge_angle_deg - ridge_tolerance_deg is tagged kRidge (Mmg's -ar,
+  // default 45 degrees): CAD tessellations put chamfers at exactly the
+  // threshold, and their rounding goes either way. A triangle too thin for
+  // its normal to mean anything (area below degenerate_area_ratio times its
+  // longest edge squared) tags none of its edges.
   // detect_ridges = false is Mmg's -nr: no detection, file tags kept.
   bool detect_ridges = true;
   double ridge_angle_deg = 45.0;
+  double ridge_tolerance_deg = 0.5;
+  double degenerate_area_ratio = 1e-12;
   // Edges between triangles of different references (subdomain interfaces)
   // are feature curves too: they are tagged kRidge.
   bool reference_interfaces = true;

@@ -228,6 +228,21 @@ Vec3 safe_curve_tangent(const SurfaceMesh& mesh, Vertex v, const FeatureEdgeAt& 
   return normalized(std::cos(best) * ub + std::sin(best) * wb);
 }
 
+// The unit normal nearest to n whose plane contains the unit tangents ts
+// (two independent ones fix it; one leaves a turn about it), oriented like n.
+Vec3 plane_containing(const std::vector<Vec3>& ts, const Vec3& n) {
+  Vec3 best;
+  for (std::size_t i = 0; i < ts.size(); ++i)
+    for (std::size_t j = i + 1; j < ts.size(); ++j) {
+      const Vec3 c = cross(ts[i], ts[j]);
+      if (norm(c) > norm(best)) best = c;
+    }
+  if (norm(best) > std::sin(10 * kDeg)) return normalized(dot(best, n) >= 0 ? best : -best);
+  Vec3 m = n;
+  for (const Vec3& t : ts) m = m - dot(m, t) * t;
+  return norm(m) > 0 ? normalized(m) : n;
+}
+
 // The sparse matrix of the mirror system (compute_frames, step 3), its
 // structure built once: the unknowns of the sectors at both ends of every
 // edge of positive length are coupled (the entries the step's triplets would
@@ -607,6 +622,7 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
   // its estimate onto that plane. Every sector plane then contains the
   // tangents of its bounding curves (proposition 1 holds in every sector).
   const double merge_angle = options.corner_merge_angle_deg * kDeg;
+  const double max_corner_turn = options.corner_tangent_tolerance_deg * kDeg;
   for (Vertex vh : mesh.vertices()) {
     if (mesh.is_isolated(vh) || regular[vh.idx]) continue;
     const auto fe = feature_edges_at(mesh, vh);
@@ -650,9 +666,13 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
       const Vec3 g = normalized(group[root(static_cast<int>(i))]);
       if (norm(g) > 0) f.sector_normal_[ids[i]] = g;
     }
-    for (const End& en : ends) {
+    // each end's tangent from the planes of its two sectors
+    std::vector<Vec3> from_planes(ends.size());
+    bool curves_first = false;
+    for (std::size_t i = 0; i < ends.size(); ++i) {
+      const End& en = ends[i];
       const Vec3& n1 = f.sector_normal_[en.s1];
-      Vec3& t = f.tangent(en.e.idx, en.from ? 0 : 1);
+      const Vec3& t = f.tangent(en.e.idx, en.from ? 0 : 1);
       const Vec3 chord = mesh.position(en.from ? mesh.edge_to(en.e) : mesh.edge_from(en.e)) - mesh.position(vh);
       Vec3 nt;
       if (en.s2 >= 0 && root(local(en.s1)) != root(local(en.s2))) {
@@ -663,7 +683,39 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
       }
       if (norm(nt) == 0) continue;
       if (dot(nt, t) < 0 || (dot(t, t) == 0 && dot(nt, chord) < 0)) nt = -nt;
-      t = nt;
+      from_planes[i] = nt;
+      if (norm(t) > 0 && angle_of(nt, t) > max_corner_turn) curves_first = true;
+    }
+    if (curves_first) {
+      // A sector plane that would turn a curve far from its own course (a
+      // sector averaged over strips narrower than its triangles): the curves
+      // keep the tangents of step 1 and each sector plane is made to contain
+      // the tangents of its bounding curves instead, if every sector then
+      // still sees all its triangles.
+      std::vector<Vec3> planes(ids.size());
+      bool all_see = true;
+      for (std::size_t i = 0; i < ids.size() && all_see; ++i) {
+        const int s = ids[i];
+        std::vector<Vec3> ts;
+        for (const End& en : ends)
+          if (en.s1 == s || en.s2 == s) ts.push_back(f.tangent(en.e.idx, en.from ? 0 : 1));
+        planes[i] = plane_containing(ts, f.sector_normal_[s]);
+        for (Corner c : mesh.fan_corners(vh))
+          if (f.corner_sector_[c.idx] == s &&
+              dot(planes[i], normalized(mesh.triangle_normal(SurfaceMesh::triangle(c)))) < min_cos)
+            all_see = false;
+      }
+      if (all_see) {
+        for (std::size_t i = 0; i < ids.size(); ++i) f.sector_normal_[ids[i]] = planes[i];
+        f.constrained += static_cast<int>(ids.size());
+        continue;
+      }
+    }
+    for (std::size_t i = 0; i < ends.size(); ++i) {
+      const End& en = ends[i];
+      const Vec3& nt = from_planes[i];
+      if (norm(nt) == 0) continue;
+      f.tangent(en.e.idx, en.from ? 0 : 1) = nt;
       const Corner o = mesh.opposite(en.e);
       if (o.is_valid()) f.tangent(o.idx, en.from ? 1 : 0) = nt;
       ++f.constrained;

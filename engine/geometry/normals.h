@@ -61,6 +61,12 @@ struct NormalOptions {
   // differ by less than this angle share one plane (e.g. both sides of a
   // reference interface on a smooth surface).
   double corner_merge_angle_deg = 20.0;
+  // At a corner, a curve end takes the line where its two sector planes meet
+  // unless that line is more than this angle from the curve's own tangent
+  // (step 1: the chord, or its regular neighbour's circle): then every curve
+  // at the corner keeps its own tangent and the sector planes turn to
+  // contain them.
+  double corner_tangent_tolerance_deg = 15.0;
 };
 
 // Tangent planes per sector and feature-curve tangents, indexed by corner.

@@ -83,6 +83,23 @@ RemeshOptions band_remesh_options() {
   return o;
 }
 
+InputBound input_bound_of(const AdaptOptions& options) {
+  InputBound b = options.input_bound;
+  if (options.metric.hausd > 0) b.hausd = options.metric.hausd;
+  return b;
+}
+
+RemeshOptions remesh_options_of(const AdaptOptions& options) {
+  RemeshOptions r = options.remesh;
+  // Vertices lie within hausd / 5 of the input (InputBound), so that a
+  // segment's midpoint within 0.7 hausd of it keeps the triangles' centroids
+  // (4/3 of their edges' sag on a sphere) within 1.2 hausd.
+  const double chordal = 0.7 * options.metric.hausd;
+  if (chordal > 0 && !(r.op.curve_max_sag > 0)) r.op.curve_max_sag = chordal;
+  if (chordal > 0 && !(r.op.surface_max_sag > 0)) r.op.surface_max_sag = chordal;
+  return r;
+}
+
 void check_options(const AdaptOptions& o) {
   check_recipe(o.metric);
   if (!(o.remesh.op.lmin > 0) || !(o.remesh.op.lmax > o.remesh.op.lmin))
@@ -157,11 +174,12 @@ AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& 
       timer.done("surface (frames, Bezier patches, locator)");
     }
     auto control = make_control(t0, std::move(metric.metric), t0_is_geometry, options);
-    auto adapted = std::make_unique<AdaptedMesh>(t0, *geometry, *control, options.length, cycle == 1 && separate);
+    auto adapted = std::make_unique<AdaptedMesh>(t0, *geometry, *control, options.length, cycle == 1 && separate,
+                                                  input_bound_of(options));
     timer.done("T_1 located on T_G and T_0");
     report.setup_seconds = timer.total();
 
-    auto remesher = std::make_unique<Remesher>(*adapted, options.remesh);
+    auto remesher = std::make_unique<Remesher>(*adapted, remesh_options_of(options));
     report.initial = remesher->measure();
     report.inverted_before = adapted->count_inverted();
     if (cb.cycle_started) cb.cycle_started(report);

@@ -58,7 +58,17 @@ struct AdaptOptions {
   // 0: the machine's physical memory). The estimate is
   // kBytesPerPredictedVertex per predicted vertex.
   double memory_limit = 0;
+  // How far from the input the smooth surface may put vertices (its hausd
+  // is the recipe's: use input_bound_of).
+  InputBound input_bound;
 };
+
+// options.input_bound with the recipe's chordal deviation hausd.
+InputBound input_bound_of(const AdaptOptions& options);
+// options.remesh with the recipe's chordal deviation hausd (if any) as the
+// cap of the feature curves' and the surface's sag (OperatorOptions::
+// curve_max_sag, surface_max_sag).
+RemeshOptions remesh_options_of(const AdaptOptions& options);
 
 // Peak memory per output vertex of an adaptation, with a margin: measured
 // 150-170 bytes per output triangle (2 per vertex) on the large bench cases.

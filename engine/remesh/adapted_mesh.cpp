@@ -1,6 +1,7 @@
 #include "remesh/adapted_mesh.h"
 
 #include <algorithm>
+#include <cmath>
 #include <deque>
 
 #include "geometry/features.h"
@@ -10,8 +11,8 @@
 namespace anisurf::remesh {
 
 AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, ControlSpace& control, LengthFormula length,
-                         bool project_initial)
-    : mesh_(std::move(initial)), geometry_(geometry), control_(control), length_(length) {
+                         bool project_initial, const InputBound& bound)
+    : mesh_(std::move(initial)), geometry_(geometry), control_(control), length_(length), bound_(bound) {
   auto& props = mesh_.vertex_properties();
   for (const char* n : {"remesh:metric", "remesh:normal", "remesh:on_surface", "remesh:hint_g", "remesh:hint_0"})
     props.remove(n);
@@ -36,6 +37,7 @@ AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, Control
     solution_.push_back(p);
   }
   mark_rough_triangles();
+  measure_sagitta();
 
   // Initial locations by propagation (section 4.3): breadth-first over T_1,
   // each vertex searched from the hints of the neighbour that reached it.
@@ -111,7 +113,64 @@ Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, const std::vector<V
   const Location in0 = control_.locate(p.position, n ? h0[0] : Hint{}, pr.location);
   p.hint_0 = in0.hint();
   p.values = control_.values_at(in0);
+  p.on_input = pr.location.is_valid() ? pr.location.point : p.position;
+  if (kind != VertexKind::Fixed) pull_towards_input(p, pr.location);
   return p;
+}
+
+double AdaptedMesh::input_tolerance(Triangle t, const SymTensor3& M) const {
+  const double tr = trace(M);
+  const double h = tr > 0 ? std::sqrt(3.0 / tr) : INFINITY;
+  const double natural =
+      t.is_valid() && static_cast<std::size_t>(t.idx) < sagitta_.size() ? sagitta_[static_cast<std::size_t>(t.idx)] : 0.0;
+  double tol = std::max(bound_.size_fraction * h, bound_.natural_factor * natural);
+  if (bound_.hausd > 0) tol = std::min(tol, bound_.hausd_fraction * bound_.hausd);
+  return tol;
+}
+
+void AdaptedMesh::pull_towards_input(Placement& p, const Location& on_geometry) const {
+  if (!bound_.enabled || !on_geometry.is_valid()) return;
+  const Vec3 off = p.position - on_geometry.point;
+  const double d = norm(off);
+  const double tol = input_tolerance(on_geometry.triangle, p.values.metric);
+  if (!(d > tol)) return;
+  p.position = on_geometry.point + off * (tol / d);
+  p.pulled = true;
+}
+
+// Per triangle of T_G, 4/3 of |e| theta / 8 over its edges (InputBound): theta the
+// dihedral angle across an edge inside a smooth region, or on a feature
+// curve the mean turn of the curve at the edge's ends (0 at a corner, where
+// the curve may start in any direction).
+void AdaptedMesh::measure_sagitta() {
+  const SurfaceMesh& g = geometry_.mesh();
+  sagitta_.assign(static_cast<std::size_t>(g.triangle_capacity()), 0.0f);
+  auto curve_turn = [&](Vertex v) {
+    if (g.vertex_tags(v) & (kCorner | kRequired)) return 0.0;
+    const auto fe = feature_edges_at(g, v);
+    if (fe.size() != 2) return 0.0;
+    const Vec3& p = g.position(v);
+    const Vec3 a = p - g.position(fe[0].other), b = g.position(fe[1].other) - p;
+    return std::atan2(norm(cross(a, b)), dot(a, b));
+  };
+  for (Triangle t : g.triangles()) {
+    double worst = 0;
+    const Vec3 nt = g.triangle_normal(t);
+    for (int k = 0; k < 3; ++k) {
+      const Corner c = SurfaceMesh::corner(t, k);
+      const Vertex a = g.edge_from(c), b = g.edge_to(c);
+      const double len = norm(g.position(b) - g.position(a));
+      double theta = 0;
+      if (is_feature_edge(g, c)) {
+        theta = 0.5 * (curve_turn(a) + curve_turn(b));
+      } else {
+        const Vec3 no = g.triangle_normal(SurfaceMesh::triangle(g.opposite(c)));
+        theta = std::atan2(norm(cross(nt, no)), dot(nt, no));
+      }
+      worst = std::max(worst, len * theta / 8.0);
+    }
+    sagitta_[static_cast<std::size_t>(t.idx)] = static_cast<float>(4.0 / 3.0 * worst);
+  }
 }
 
 void AdaptedMesh::refresh_values() {
@@ -130,6 +189,7 @@ Placement AdaptedMesh::current(Vertex v) const {
   p.position = mesh_.position(v);
   p.normal = surface_normal(v);
   p.on_surface = on_surface_[v] != 0;
+  p.pulled = on_surface_[v] == 2;
   p.hint_g = hint_g_[v];
   p.hint_0 = hint_0_[v];
   p.values.metric = metric_[v];
@@ -140,7 +200,7 @@ Placement AdaptedMesh::current(Vertex v) const {
 void AdaptedMesh::commit(Vertex v, const Placement& p) {
   mesh_.position(v) = p.position;
   normal_[v] = {static_cast<float>(p.normal.x), static_cast<float>(p.normal.y), static_cast<float>(p.normal.z)};
-  on_surface_[v] = p.on_surface ? 1 : 0;
+  on_surface_[v] = !p.on_surface ? 0 : (p.pulled ? 2 : 1);
   hint_g_[v] = p.hint_g;
   hint_0_[v] = p.hint_0;
   metric_[v] = p.values.metric;

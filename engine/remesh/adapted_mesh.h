@@ -24,6 +24,32 @@ struct Placement {
   ControlValues values;
   double distance = 0;  // from the requested point to the surface
   bool on_surface = true;  // false: kept off the surface (section 5.3's unprojected midpoint)
+  bool pulled = false;     // the surface point was farther from T_G than the bound: pulled back (InputBound)
+  Vec3 on_input;           // the closest point of the polyhedral T_G (the location's point)
+};
+
+// How far from the input T_G the smooth surface may put a vertex. The G1
+// surface of section 3 follows T_G's own curvature: across a triangle whose
+// edges turn by theta (dihedral angle, or the turn of a feature curve at a
+// regular vertex), a smooth surface through its vertices lies about
+// |e| theta / 8 off it at the edge's midpoint (the sagitta of a circle), 4/3
+// of that at the triangle's centre. (theta, the angle between the facets'
+// normals, is about 1/sqrt 3 of the angle an edge subtends on an evenly
+// tessellated sphere: the G1 surface of a coarse sphere is pulled about
+// halfway back towards its facets; `enabled` false keeps it whole, as the
+// report's section 7.2 reconstruction wants.) Where the surface goes
+// farther (tangents estimated from features narrower than the triangles,
+// slivers, blends of strips), the point is pulled back towards T_G to
+//   tolerance = max(size_fraction h, natural_factor x that sagitta),
+// h the metric's size at the point (sqrt(3 / trace M): the size of an
+// isotropic metric, between the smallest and sqrt 3 times it), and at most
+// hausd_fraction x hausd when a chordal deviation is asked for.
+struct InputBound {
+  bool enabled = true;
+  double size_fraction = 0.05;
+  double natural_factor = 1.0;
+  double hausd = 0;  // 0: none
+  double hausd_fraction = 0.2;
 };
 
 // How a vertex of T_1 may move (report sections 5.1 and 5.5).
@@ -42,7 +68,8 @@ class AdaptedMesh {
   // excepted. Pre: `initial` carries its feature tags (those of T_G when it
   // is a copy).
   AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, ControlSpace& control,
-              LengthFormula length = LengthFormula::LinearMetric, bool project_initial = false);
+              LengthFormula length = LengthFormula::LinearMetric, bool project_initial = false,
+              const InputBound& bound = {});
 
   SurfaceMesh& mesh() { return mesh_; }
   const SurfaceMesh& mesh() const { return mesh_; }
@@ -82,6 +109,13 @@ class AdaptedMesh {
   // False for a vertex left off the surface (a split at the straight
   // midpoint); the next move of the vertex projects it.
   bool on_surface(Vertex v) const { return on_surface_[v] != 0; }
+  // True where the last placement of v pulled the surface point back
+  // towards T_G (InputBound): where the smooth surface and the input differ.
+  bool pulled_to_input(Vertex v) const { return on_surface_[v] == 2; }
+  // The largest distance the bound allows from T_G at a point of T_G's
+  // triangle `t` where the metric is M (InputBound).
+  double input_tolerance(Triangle t, const SymTensor3& M) const;
+  const InputBound& input_bound() const { return bound_; }
   const Property<SymTensor3>& metric_property() const { return metric_; }
   VertexKind kind(Vertex v) const;
   Constraint constraint(VertexKind k) const;
@@ -131,11 +165,15 @@ class AdaptedMesh {
   LengthFormula length_;
   Property<SymTensor3> metric_;
   Property<std::array<float, 3>> normal_;  // single precision: an angle reference, 12 bytes per vertex
-  Property<std::uint8_t> on_surface_;
+  Property<std::uint8_t> on_surface_;  // 0 off the surface, 1 on it, 2 pulled towards T_G
   Property<Hint> hint_g_, hint_0_;
   std::vector<Property<FieldValue>> solution_;
   std::vector<std::uint8_t> rough_;  // per triangle slot of T_G: near_feature()
   void mark_rough_triangles();
+  InputBound bound_;
+  std::vector<float> sagitta_;  // per triangle slot of T_G: the natural deviation of InputBound
+  void measure_sagitta();
+  void pull_towards_input(Placement& p, const Location& on_geometry) const;
 };
 
 }  // namespace anisurf::remesh

@@ -119,19 +119,22 @@ TriangleView view(const AdaptedMesh& m, Triangle t, Vertex moved, Vertex also, c
 }
 
 // Distance from the midpoint of a new curve segment p-w (w a curve vertex)
-// to the feature curve of T_G (a projection onto the curve).
+// to the feature curve: to the G1 curve and to T_G's own edges, the larger.
 double midpoint_off_curve(AdaptedMesh& m, const Vec3& p, Vertex w) {
-  return m.place(0.5 * (p + m.mesh().position(w)), VertexKind::Curve, {w}).distance;
+  const Vec3 mid = 0.5 * (p + m.mesh().position(w));
+  const Placement at = m.place(mid, VertexKind::Curve, {w});
+  return std::max(at.distance, norm(mid - at.on_input));
 }
 
 // Section 5.1's tolerance for the sag of a new curve segment p-w:
 // OperatorOptions::curve_sag times the size the metric asks for along the
 // segment (its length over its metric length; infinite for a zero metric
-// length).
+// length), at most curve_max_sag.
 double curve_sag_tolerance(const AdaptedMesh& m, const Placement& p, Vertex w, const OperatorOptions& o) {
   const Vec3 pw = m.mesh().position(w);
   const double metric_length = m.length(p.position, p.values.metric, pw, m.metric(w));
-  return metric_length > 0 ? o.curve_sag * norm(pw - p.position) / metric_length : INFINITY;
+  const double relative = metric_length > 0 ? o.curve_sag * norm(pw - p.position) / metric_length : INFINITY;
+  return o.curve_max_sag > 0 ? std::min(relative, o.curve_max_sag) : relative;
 }
 
 // A move: the new segment p-w stays within the sag tolerance.
@@ -157,6 +160,7 @@ std::string_view rejection_name(Rejection r) {
     case Rejection::Length: return "length";
     case Rejection::Cache: return "cache";
     case Rejection::NoGain: return "no_gain";
+    case Rejection::Deviation: return "deviation";
     case Rejection::kCount: break;
   }
   return "?";
@@ -259,6 +263,17 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     // (a vertex far off a thin triangle would tilt everything refined
     // around it later).
     const Rejection first = plan.why;
+    // Where the smooth surface strays from the input (pulled back), the
+    // input's own closest point (on T_G's triangles or feature edge).
+    if (plan.at.pulled && norm(plan.at.on_input - plan.at.position) > 0) {
+      plan.why = check(plan.at.on_input, sn);
+      if (plan.why == Rejection::None) plan.why = check_sides(plan.at.on_input, sn, plan.at.hint_g);
+      if (plan.why == Rejection::None) {
+        plan.at.position = plan.at.on_input;
+        plan.at.pulled = true;
+        return plan;
+      }
+    }
     double min_height = INFINITY;
     const double len = norm(mesh.position(d) - mesh.position(b));
     for (Corner k : {c, mesh.opposite(c)})
@@ -371,6 +386,15 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
     }
   }
   if (q_new < std::min(q_old, o.collapse_quality)) return Rejection::Quality;
+  // New edges across the surface stay on it (feature edges: the curve test).
+  for (Vertex n : mesh.ring_vertices(r)) {
+    if (n == k) continue;
+    const Corner e = find_edge_corner(mesh, r, n);
+    if (e.is_valid() && is_feature_edge(mesh, e)) continue;
+    if (sags_off_input(m, p.position, p.values.metric, p.normal, k, mesh.position(n), m.metric(n), m.surface_normal(n), n,
+                       false, o))
+      return Rejection::Deviation;
+  }
   for (const TriangleView& tv : new_triangles) {
     const Rejection why = check_surface_side(m, tv.x, tv.n, tv.h);
     if (why != Rejection::None) return why;
@@ -551,6 +575,10 @@ SwapPlan can_swap(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
   const Hint &ha = m.hint_g(a), &hb = m.hint_g(b), &hd = m.hint_g(d), &he = m.hint_g(e);
   Rejection r = check_surface_side(m, {pa, pb, pe}, {na, nb, ne}, {ha, hb, he});
   if (r == Rejection::None) r = check_surface_side(m, {pe, pd, pa}, {ne, nd, na}, {he, hd, ha});
+  // The new diagonal stays on the surface (else the next split undoes it).
+  if (r == Rejection::None && sags_off_input(m, pa, Ma, na, a, pe, Me, ne, e, false, o) &&
+      !sags_off_input(m, pb, Mb, nb, b, pd, Md, nd, d, false, o))
+    r = Rejection::Deviation;
   plan.why = r;
   return plan;
 }
@@ -659,5 +687,35 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
 }
 
 void move(AdaptedMesh& m, Vertex v, const MovePlan& plan) { m.commit(v, plan.at); }
+
+bool sags_off_input(AdaptedMesh& m, const Vec3& pa, const SymTensor3& Ma, const Vec3& na, Vertex a, const Vec3& pb,
+                    const SymTensor3& Mb, const Vec3& nb, Vertex b, bool curve, const OperatorOptions& o) {
+  if (!(o.surface_sag > 0)) return false;
+  const double len = norm(pb - pa);
+  const double metric_length = m.length(pa, Ma, pb, Mb);
+  if (!(metric_length > 0)) return false;
+  double tol = o.surface_sag * len / metric_length;
+  if (o.surface_max_sag > 0) tol = std::min(tol, o.surface_max_sag);
+  if (!(len > 2 * tol)) return false;
+  // A smooth surface turning by theta between the ends sags by about
+  // len theta / 8 (a circle): far below the tolerance, no projection.
+  if (norm2(na) > 0 && norm2(nb) > 0) {
+    const double theta = std::atan2(norm(cross(na, nb)), dot(na, nb));
+    if (len * theta < 2 * tol) return false;
+  }
+  // The midpoint against the point a new vertex there would take (on the
+  // smooth surface, within the input bound): the segment's chordal sag.
+  const Vec3 mid = 0.5 * (pa + pb);
+  return norm(m.place(mid, curve ? VertexKind::Curve : VertexKind::Free, {a, b}).position - mid) > tol;
+}
+
+bool edge_sags_off_input(AdaptedMesh& m, Vertex a, Vertex b, const OperatorOptions& o) {
+  if (!(o.surface_sag > 0)) return false;
+  const SurfaceMesh& mesh = m.mesh();
+  const Corner e = find_edge_corner(mesh, a, b);
+  const bool curve = e.is_valid() && is_feature_edge(mesh, e);
+  return sags_off_input(m, mesh.position(a), m.metric(a), m.surface_normal(a), a, mesh.position(b), m.metric(b),
+                        m.surface_normal(b), b, curve, o);
+}
 
 }  // namespace anisurf::remesh

@@ -25,6 +25,7 @@ enum class Rejection : int {
   Length,       // a collapse would create an edge longer than lmax, a move one beyond it
   Cache,        // undoes one of the last modifications (Remark 5)
   NoGain,       // move: the vertex is already at its optimum
+  Deviation,    // a new edge would leave the input surface by more than the sag tolerance
   kCount
 };
 std::string_view rejection_name(Rejection r);
@@ -51,12 +52,21 @@ struct OperatorOptions {
   // curved one until its chords sag by curve_sag * h: on an arc of radius r,
   // segments of the size h when h <= 8 curve_sag r (the polygon turning by
   // up to 8 curve_sag radians per vertex), shorter ones (sqrt(8 curve_sag r
-  // h)) where it asks for coarser. 0.02 (9 degrees per vertex) keeps
-  // curves within 2e-3 of the diagonal under a curvature metric whose sizes
-  // reach diagonal / 10 (tests/test_remesh_shared.cpp); 0.1 lets the metric
-  // of the report's section 7.3 coarsen the half-circle crease (radius 6.4,
-  // size 4) from 24 to 8 edges (tests/test_remesh_paper73.cpp).
-  double curve_sag = 0.02;
+  // h)) where it asks for coarser. 0.1 (46 degrees per vertex at most) lets
+  // the metric of the report's section 7.3 coarsen the half-circle crease
+  // (radius 6.4, size 4) from 24 to 8 edges (tests/test_remesh_paper73.cpp);
+  // curve_max_sag (> 0, absolute: the adaptation's chordal deviation hausd)
+  // caps it where the metric is coarse.
+  double curve_sag = 0.1;
+  double curve_max_sag = 0;
+  // The same for the edges across the surface: an edge whose midpoint lies
+  // farther from the surface than surface_sag times the size the metric
+  // asks for along it (and than surface_max_sag, absolute, when > 0) is
+  // split even when it is short enough, and no collapse creates one
+  // (0: no such test). Edges shorter than twice the tolerance are left (a
+  // split there cannot bring the midpoint closer: a crease).
+  double surface_sag = 0.1;
+  double surface_max_sag = 0;
   // Turn: the largest angle between a new curve segment and the segment it
   // replaces (section 5.1, "their tangent vectors are quite different"):
   // keeps a bend of the curve (below the corner angle) from being cut where
@@ -174,5 +184,16 @@ void move(AdaptedMesh& m, Vertex v, const MovePlan& plan);
 
 // Corner naming the edge a-b (either direction), or invalid.
 Corner find_edge_corner(const SurfaceMesh& mesh, Vertex a, Vertex b);
+
+// Section 5's fidelity test of a segment a-b of T_1 (an edge, or one an
+// operator would create): true when its midpoint lies farther from the
+// surface (the point a vertex there would take: AdaptedMesh::place, within
+// the input bound) than OperatorOptions::surface_sag allows. `na`, `nb`: the surface
+// normals at the ends (zero on features), a cheap bound first; `curve`: the
+// segment runs along a feature curve (its midpoint is projected onto it).
+bool sags_off_input(AdaptedMesh& m, const Vec3& pa, const SymTensor3& Ma, const Vec3& na, Vertex a, const Vec3& pb,
+                    const SymTensor3& Mb, const Vec3& nb, Vertex b, bool curve, const OperatorOptions& o);
+// The same for the edge a-b of T_1 as it is.
+bool edge_sags_off_input(AdaptedMesh& m, Vertex a, Vertex b, const OperatorOptions& o);
 
 }  // namespace anisurf::remesh

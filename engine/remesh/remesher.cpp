@@ -73,13 +73,16 @@ void refuse(PassReport& r, PassKind pass, Rejection why) {
 struct SplitEdges {
   static constexpr PassKind kind = PassKind::Split;
   using Order = Longer;
-  static bool outside(double length, const OperatorOptions& o) { return length > o.lmax; }
+  // Too long, or (section 5's fidelity) too far off the input surface.
+  static bool outside(AdaptedMesh& m, Vertex a, Vertex b, double length, const OperatorOptions& o) {
+    return length > o.lmax || edge_sags_off_input(m, a, b, o);
+  }
   static SplitPlan plan(AdaptedMesh& m, Corner c, const OperatorOptions& o) { return can_split(m, c, o); }
 };
 struct CollapseEdges {
   static constexpr PassKind kind = PassKind::Collapse;
   using Order = Shorter;
-  static bool outside(double length, const OperatorOptions& o) { return length < o.lmin; }
+  static bool outside(AdaptedMesh&, Vertex, Vertex, double length, const OperatorOptions& o) { return length < o.lmin; }
   static CollapsePlan plan(AdaptedMesh& m, Corner c, const OperatorOptions& o) { return can_collapse(m, c, o); }
 };
 
@@ -237,7 +240,7 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
   for (Corner c : mesh.edges()) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     const double l = mesh_.length(a, b);
-    if (Edges::outside(l, o)) heap.push({l, a.idx, b.idx});
+    if (Edges::outside(mesh_, a, b, l, o)) heap.push({l, a.idx, b.idx});
   }
   // Splits only add triangles, collapses only remove them: the budget
   // follows a refinement and keeps its start through a coarsening.
@@ -252,7 +255,7 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
     const EdgeItem it = heap.pop();
     const Vertex a(it.a), b(it.b);
     const Corner c = find_edge_corner(mesh, a, b);
-    if (!c.is_valid() || !Edges::outside(mesh_.length(a, b), o)) continue;
+    if (!c.is_valid() || !Edges::outside(mesh_, a, b, mesh_.length(a, b), o)) continue;
     if (in_cache(a, b, Edges::kind)) {  // Remark 5
       refuse(r, Edges::kind, Rejection::Cache);
       continue;
@@ -267,7 +270,7 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
     if (!follow_new_edges || !v.is_valid()) continue;
     for (Vertex w : mesh.ring_vertices(v)) {
       const double l = mesh_.length(v, w);
-      if (Edges::outside(l, o)) heap.push({l, v.idx, w.idx});
+      if (Edges::outside(mesh_, v, w, l, o)) heap.push({l, v.idx, w.idx});
     }
   }
   return changes;

@@ -1,0 +1,164 @@
+// Geometric fidelity on CAD-like inputs (issue 13): sharp edges at exactly
+// the ridge angle are found, the adapted mesh stays within its bound of the
+// input (vertices, edge midpoints and triangle centroids) and keeps every
+// sharp edge of the input, on the chamfer cube of ../shared and on a box
+// whose faces are fanned with slivers into a 90 degree edge.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "geometry/features.h"
+#include "io/mesh_io.h"
+#include "locate/closest_point.h"
+#include "locate/locator.h"
+#include "mesh/build.h"
+#include "metric/length.h"
+#include "remesh/adapt.h"
+#include "test_util.h"
+
+using namespace anisurf;
+
+namespace {
+
+double dihedral_deg(const SurfaceMesh& m, Corner c) {
+  const Vec3 a = normalized(m.triangle_normal(SurfaceMesh::triangle(c)));
+  const Vec3 b = normalized(m.triangle_normal(SurfaceMesh::triangle(m.opposite(c))));
+  return std::atan2(norm(cross(a, b)), dot(a, b)) * 180.0 / std::numbers::pi;
+}
+
+// Largest distance from the output's vertices, edge midpoints and triangle
+// centroids to the input's triangles.
+double max_distance_to_input(const SurfaceMesh& out, const SurfaceMesh& in) {
+  Locator locator(in);
+  double worst = 0;
+  auto at = [&](const Vec3& x) { worst = std::max(worst, locator.project(x).distance); };
+  for (Vertex v : out.vertices()) at(out.position(v));
+  for (Corner c : out.edges()) at(0.5 * (out.position(out.edge_from(c)) + out.position(out.edge_to(c))));
+  for (Triangle t : out.triangles())
+    at((out.position(out.vertex(t, 0)) + out.position(out.vertex(t, 1)) + out.position(out.vertex(t, 2))) / 3.0);
+  return worst;
+}
+
+// Share of the input's sharp edges (dihedral >= 44.5 degrees) whose points at
+// 1/4, 1/2 and 3/4 lie within `tol` of a feature edge of the output.
+double sharp_edges_kept(const SurfaceMesh& in, const SurfaceMesh& out, double tol) {
+  std::vector<std::array<Vec3, 2>> features;
+  for (Corner c : out.edges())
+    if (is_feature_edge(out, c)) features.push_back({out.position(out.edge_from(c)), out.position(out.edge_to(c))});
+  int samples = 0, kept = 0;
+  for (Corner c : in.edges()) {
+    if (!in.opposite(c).is_valid() || dihedral_deg(in, c) < 44.5) continue;
+    const Vec3 a = in.position(in.edge_from(c)), b = in.position(in.edge_to(c));
+    for (double t : {0.25, 0.5, 0.75}) {
+      const Vec3 x = a + t * (b - a);
+      double best = INFINITY;
+      for (const auto& f : features) best = std::min(best, point_segment_distance2(x, f[0], f[1]));
+      ++samples;
+      if (std::sqrt(best) <= tol) ++kept;
+    }
+  }
+  return samples ? static_cast<double>(kept) / samples : 1.0;
+}
+
+// Share of the edges of `out` whose length in the isotropic metric of size h
+// lies in [1/sqrt 2, sqrt 2], and the longest one.
+std::pair<double, double> band_share(const SurfaceMesh& out, double h) {
+  int n = 0, in_band = 0;
+  double longest = 0;
+  for (Corner c : out.edges()) {
+    const double l = norm(out.position(out.edge_to(c)) - out.position(out.edge_from(c))) / h;
+    ++n;
+    if (l >= std::sqrt(0.5) && l <= std::sqrt(2.0)) ++in_band;
+    longest = std::max(longest, l);
+  }
+  return {n ? static_cast<double>(in_band) / n : 0.0, longest};
+}
+
+remesh::AdaptResult adapt_iso(const SurfaceMesh& in, double h) {
+  remesh::AdaptOptions o;
+  o.metric.source = MetricRecipe::Source::Iso;
+  o.metric.iso = h;
+  return remesh::adapt({in}, o);
+}
+
+// The unit cube with the faces z = 1 and x = 1 fanned from a corner into
+// their common edge (x = 1, z = 1) through points seen from the fan's apex
+// at angles growing geometrically from `first_deg`: slivers down to that
+// angle against a 90 degree edge. The other faces have two triangles each.
+SurfaceMesh sliver_fanned_box(double first_deg) {
+  MeshData d;
+  auto add = [&](const Vec3& p) {
+    d.vertices.push_back(p);
+    return static_cast<int>(d.vertices.size()) - 1;
+  };
+  const int c000 = add({0, 0, 0}), c100 = add({1, 0, 0}), c010 = add({0, 1, 0}), c110 = add({1, 1, 0});
+  const int c001 = add({0, 0, 1}), c101 = add({1, 0, 1}), c011 = add({0, 1, 1}), c111 = add({1, 1, 1});
+  // points (1, y, 1) of the common edge, y = tan(angle)
+  std::vector<int> edge = {c101};
+  for (double deg = first_deg; deg < 44; deg *= 2) edge.push_back(add({1, std::tan(deg * std::numbers::pi / 180), 1}));
+  edge.push_back(c111);
+  auto tri = [&](int a, int b, int c) { d.triangles.push_back({a, b, c}); };
+  for (std::size_t k = 0; k + 1 < edge.size(); ++k) {
+    tri(c001, edge[k], edge[k + 1]);  // top face, apex (0, 0, 1)
+    tri(c100, edge[k + 1], edge[k]);  // side face x = 1, apex (1, 0, 0)
+  }
+  tri(c001, c111, c011);
+  tri(c100, c110, c111);
+  tri(c000, c010, c110), tri(c000, c110, c100);  // z = 0
+  tri(c000, c100, c101), tri(c000, c101, c001);  // y = 0
+  tri(c010, c011, c111), tri(c010, c111, c110);  // y = 1
+  tri(c000, c001, c011), tri(c000, c011, c010);  // x = 0
+  // outward orientation: each triangle faces away from the centre
+  for (auto& t : d.triangles) {
+    const Vec3 a = d.vertices[t[0]], b = d.vertices[t[1]], c = d.vertices[t[2]];
+    if (dot(cross(b - a, c - a), (a + b + c) / 3.0 - Vec3(0.5, 0.5, 0.5)) < 0) std::swap(t[1], t[2]);
+  }
+  SurfaceMesh m;
+  build_mesh(d, m);
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("fidelity: sharp edges at exactly the ridge angle are all tagged") {
+  ANISURF_REQUIRE_SHARED(path, "meshes/chamfer_cube.mesh");
+  SurfaceMesh m = load_mesh(path);
+  detect_features(m);
+  int at_45 = 0, tagged = 0;
+  for (Corner c : m.edges()) {
+    if (!m.opposite(c).is_valid() || std::abs(dihedral_deg(m, c) - 45.0) > 0.01) continue;
+    ++at_45;
+    if (m.has_tag(c, kRidge)) ++tagged;
+  }
+  CHECK(at_45 == 24);  // two per chamfer
+  CHECK(tagged == at_45);
+}
+
+TEST_CASE("fidelity: the chamfer cube adapted to diagonal/60 stays on the input and keeps its chamfers") {
+  ANISURF_REQUIRE_SHARED(path, "meshes/chamfer_cube.mesh");
+  const SurfaceMesh in = load_mesh(path);
+  const double diagonal = in.bbox().diagonal(), h = diagonal / 60;
+  const remesh::AdaptResult r = adapt_iso(in, h);
+  REQUIRE(r.mesh.validate().ok());
+  CHECK(max_distance_to_input(r.mesh, in) <= 0.005 * diagonal);
+  CHECK(sharp_edges_kept(in, r.mesh, h / 4) == 1.0);
+  const auto [share, longest] = band_share(r.mesh, h);
+  CHECK(share >= 0.95);
+  CHECK(longest <= 2.0);
+}
+
+TEST_CASE("fidelity: a box fanned with slivers into a 90 degree edge keeps its edges and stays on the input") {
+  const SurfaceMesh in = sliver_fanned_box(1e-5);
+  REQUIRE(in.validate().ok());
+  const double diagonal = in.bbox().diagonal(), h = diagonal / 40;
+  const remesh::AdaptResult r = adapt_iso(in, h);
+  REQUIRE(r.mesh.validate().ok());
+  CHECK(max_distance_to_input(r.mesh, in) <= 0.005 * diagonal);
+  CHECK(sharp_edges_kept(in, r.mesh, h / 4) == 1.0);
+  const auto [share, longest] = band_share(r.mesh, h);
+  CHECK(share >= 0.9);
+  CHECK(longest <= 2.0);
+}
