@@ -5,6 +5,68 @@
 
 namespace anisurf {
 
+namespace {
+
+// Whether the largest eigenvalue of Mq^-1 P is below `factor`: factor Mq - P
+// positive definite (a Cholesky factorisation, no eigen-decomposition).
+bool contains_scaled(const SymTensor3& Mq, double factor, const SymTensor3& P) {
+  return is_spd(factor * Mq - P);
+}
+
+// The neighbours of each vertex along the edges, in compressed rows.
+struct Adjacency {
+  std::vector<int> start, neighbour;
+  Adjacency(int n, const std::vector<std::array<int, 2>>& edges) : start(n + 1, 0), neighbour(2 * edges.size()) {
+    for (const auto& e : edges) {
+      ++start[e[0] + 1];
+      ++start[e[1] + 1];
+    }
+    for (int i = 0; i < n; ++i) start[i + 1] += start[i];
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (const auto& e : edges) {
+      neighbour[fill[e[0]]++] = e[1];
+      neighbour[fill[e[1]]++] = e[0];
+    }
+  }
+};
+
+// The vertices whose metric is still to be spread to their neighbours, first
+// in first out, each queued once at a time (all of them at the start).
+class WorkList {
+ public:
+  explicit WorkList(int n) : queued_(n, 1) {
+    for (int v = 0; v < n; ++v) fifo_.push_back(v);
+  }
+  void push(int v) {
+    if (queued_[v]) return;
+    queued_[v] = 1;
+    fifo_.push_back(v);
+  }
+  // The next vertex, or -1 when none is left.
+  int pop() {
+    if (fifo_.empty()) return -1;
+    const int v = fifo_.front();
+    fifo_.pop_front();
+    queued_[v] = 0;
+    return v;
+  }
+
+ private:
+  std::deque<int> fifo_;
+  std::vector<char> queued_;
+};
+
+// The largest edge_gradation_excess over the edges.
+double largest_excess(const std::vector<Vec3>& positions, const std::vector<std::array<int, 2>>& edges,
+                      const std::vector<SymTensor3>& metric, const GradationOptions& options) {
+  double worst = 1.0;
+  for (const auto& e : edges)
+    worst = std::fmax(worst, edge_gradation_excess(metric[e[0]], metric[e[1]], positions[e[1]] - positions[e[0]], options));
+  return worst;
+}
+
+}  // namespace
+
 SymTensor3 propagate_metric(const SymTensor3& Mp, const Vec3& e, const GradationOptions& options) {
   const double log_ratio = std::log(options.ratio);
   if (options.space == GradationSpace::Metric) {
@@ -44,46 +106,24 @@ GradationReport gradate_metric(const std::vector<Vec3>& positions, const std::ve
     check_metric(metric[e[0]], e[0]);
     check_metric(metric[e[1]], e[1]);
   }
-  // Adjacency in compressed rows.
-  std::vector<int> start(n + 1, 0), nbr(2 * edges.size());
-  for (const auto& e : edges) {
-    ++start[e[0] + 1];
-    ++start[e[1] + 1];
-  }
-  for (int i = 0; i < n; ++i) start[i + 1] += start[i];
-  std::vector<int> fill(start.begin(), start.end() - 1);
-  for (const auto& e : edges) {
-    nbr[fill[e[0]]++] = e[1];
-    nbr[fill[e[1]]++] = e[0];
-  }
-
+  const Adjacency adjacency(n, edges);
   GradationReport report;
-  for (const auto& e : edges)
-    report.max_excess_before =
-        std::fmax(report.max_excess_before,
-                  edge_gradation_excess(metric[e[0]], metric[e[1]], positions[e[1]] - positions[e[0]], options));
+  report.max_excess_before = largest_excess(positions, edges, metric, options);
 
   const double accept = (1.0 + options.tolerance) * (1.0 + options.tolerance);  // on eigenvalues of M_q^-1 P
   const long long cap = static_cast<long long>(options.max_updates_per_vertex) * std::max(n, 1);
-  std::deque<int> work;
-  std::vector<char> queued(n, 1), changed(n, 0);
-  for (int i = 0; i < n; ++i) work.push_back(i);
-  while (!work.empty()) {
-    const int p = work.front();
-    work.pop_front();
-    queued[p] = 0;
-    for (int k = start[p]; k < start[p + 1]; ++k) {
-      const int q = nbr[k];
+  WorkList work(n);
+  std::vector<char> changed(n, 0);
+  for (int p = work.pop(); p >= 0; p = work.pop()) {
+    for (int k = adjacency.start[p]; k < adjacency.start[p + 1]; ++k) {
+      const int q = adjacency.neighbour[k];
       const SymTensor3 P = propagate_metric(metric[p], positions[q] - positions[p], options);
       ++report.edge_checks;
-      if (generalized_eigenvalues(P, metric[q])[2] <= accept) continue;
+      if (contains_scaled(metric[q], accept, P)) continue;
       metric[q] = intersect(metric[q], P);
       ++report.updates;
       changed[q] = 1;
-      if (!queued[q]) {
-        queued[q] = 1;
-        work.push_back(q);
-      }
+      work.push(q);
     }
     if (report.updates >= cap) {
       report.converged = false;
