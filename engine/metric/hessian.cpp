@@ -292,6 +292,27 @@ SymTensor3 tangent_metric(const TangentAbs& t, double scale) {
   return extend_from_tangent(T, t.frame[0], t.frame[1], scale * std::min(t.values[0], t.values[1]));
 }
 
+// recover_curvature with the normals already fitted.
+std::vector<SymTensor3> second_fundamental_form(const SurfaceMesh& mesh, const std::vector<Vec3>& normal,
+                                                const HessianRecoveryOptions& options, int* unfitted) {
+  std::vector<SymTensor3> out(mesh.vertex_capacity());
+  RingCollector rings(mesh);
+  std::vector<char> fitted(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
+  for (Vertex v : mesh.vertices()) {
+    const int i = v.idx;
+    if (mesh.is_isolated(v)) continue;
+    const Vec3 p0 = mesh.position(v), n = normal[i];
+    Vec3 g;
+    // Depth below the tangent plane: a sphere with outward normals has
+    // curvature +1 / R.
+    fitted[i] = fit_at(mesh, v, rings, n, options, [&](Vertex w) { return -dot(mesh.position(w) - p0, n); }, g,
+                       out[i]) != FitKind::None;
+  }
+  const int missing = fill_unfitted(mesh, out, fitted, SymTensor3());
+  if (unfitted) *unfitted = missing;
+  return out;
+}
+
 }  // namespace
 
 std::vector<Vec3> fitted_normals(const SurfaceMesh& mesh, const HessianRecoveryOptions& options) {
@@ -344,23 +365,7 @@ RecoveredDerivatives recover_derivatives(const SurfaceMesh& mesh, const std::vec
 
 std::vector<SymTensor3> recover_curvature(const SurfaceMesh& mesh, const HessianRecoveryOptions& options,
                                           int* unfitted) {
-  const std::vector<Vec3> normal = fitted_normals(mesh, options);
-  std::vector<SymTensor3> out(mesh.vertex_capacity());
-  RingCollector rings(mesh);
-  std::vector<char> fitted(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
-  for (Vertex v : mesh.vertices()) {
-    const int i = v.idx;
-    if (mesh.is_isolated(v)) continue;
-    const Vec3 p0 = mesh.position(v), n = normal[i];
-    Vec3 g;
-    // Depth below the tangent plane: a sphere with outward normals has
-    // curvature +1 / R.
-    fitted[i] = fit_at(mesh, v, rings, n, options, [&](Vertex w) { return -dot(mesh.position(w) - p0, n); }, g,
-                       out[i]) != FitKind::None;
-  }
-  const int missing = fill_unfitted(mesh, out, fitted, SymTensor3());
-  if (unfitted) *unfitted = missing;
-  return out;
+  return second_fundamental_form(mesh, fitted_normals(mesh, options), options, unfitted);
 }
 
 HessianMetricOptions cycle_metric_defaults() {
@@ -440,8 +445,8 @@ MetricField curvature_metric(const SurfaceMesh& mesh, double hausd, const Metric
   if (!(hausd > 0)) throw MetricError("curvature metric: hausd must be > 0");
   MetricBounds bounds = bounds_in;
   bounds.hmax = default_hmax(mesh, bounds.hmax);
-  const std::vector<SymTensor3> II = recover_curvature(mesh, options);
   const std::vector<Vec3> normal = fitted_normals(mesh, options);
+  const std::vector<SymTensor3> II = second_fundamental_form(mesh, normal, options, nullptr);
   const double floor = 8.0 * hausd / (bounds.hmax * bounds.hmax);  // |kappa| giving hmax
   MetricField M(mesh.vertex_capacity(), SymTensor3::identity());
   for (Vertex v : mesh.vertices())
