@@ -13,6 +13,21 @@ bool contains_scaled(const SymTensor3& Mq, double factor, const SymTensor3& P) {
   return is_spd(factor * Mq - P);
 }
 
+// propagate_metric with ln(ratio) computed once by the caller.
+SymTensor3 propagated(const SymTensor3& Mp, const Vec3& e, GradationSpace space, double log_ratio) {
+  if (space == GradationSpace::Metric) {
+    const double eta = 1.0 / (1.0 + metric_length(Mp, e) * log_ratio);
+    return (eta * eta) * Mp;
+  }
+  SymEigen3 d = eigen_decompose(Mp);
+  const double len = norm(e);
+  for (double& v : d.values) {
+    const double g = 1.0 + std::sqrt(v) * len * log_ratio;
+    v /= g * g;
+  }
+  return compose(d.values, d.vectors);
+}
+
 // The neighbours of each vertex along the edges, in compressed rows.
 struct Adjacency {
   std::vector<int> start, neighbour;
@@ -68,22 +83,11 @@ double largest_excess(const std::vector<Vec3>& positions, const std::vector<std:
 }  // namespace
 
 SymTensor3 propagate_metric(const SymTensor3& Mp, const Vec3& e, const GradationOptions& options) {
-  const double log_ratio = std::log(options.ratio);
-  if (options.space == GradationSpace::Metric) {
-    const double eta = 1.0 / (1.0 + metric_length(Mp, e) * log_ratio);
-    return (eta * eta) * Mp;
-  }
-  SymEigen3 d = eigen_decompose(Mp);
-  const double len = norm(e);
-  for (double& v : d.values) {
-    const double g = 1.0 + std::sqrt(v) * len * log_ratio;
-    v /= g * g;
-  }
-  return compose(d.values, d.vectors);
+  return propagated(Mp, e, options.space, std::log(options.ratio));
 }
 
 double gradation_excess(const SymTensor3& Mp, const SymTensor3& Mq, const Vec3& e, const GradationOptions& options) {
-  return std::sqrt(generalized_eigenvalues(propagate_metric(Mp, e, options), Mq)[2]);
+  return std::sqrt(largest_generalized_eigenvalue(propagate_metric(Mp, e, options), Mq));
 }
 
 double edge_gradation_excess(const SymTensor3& Mp, const SymTensor3& Mq, const Vec3& e,
@@ -110,6 +114,7 @@ GradationReport gradate_metric(const std::vector<Vec3>& positions, const std::ve
   GradationReport report;
   report.max_excess_before = largest_excess(positions, edges, metric, options);
 
+  const double log_ratio = std::log(options.ratio);
   const double accept = (1.0 + options.tolerance) * (1.0 + options.tolerance);  // on eigenvalues of M_q^-1 P
   const long long cap = static_cast<long long>(options.max_updates_per_vertex) * std::max(n, 1);
   WorkList work(n);
@@ -117,7 +122,7 @@ GradationReport gradate_metric(const std::vector<Vec3>& positions, const std::ve
   for (int p = work.pop(); p >= 0; p = work.pop()) {
     for (int k = adjacency.start[p]; k < adjacency.start[p + 1]; ++k) {
       const int q = adjacency.neighbour[k];
-      const SymTensor3 P = propagate_metric(metric[p], positions[q] - positions[p], options);
+      const SymTensor3 P = propagated(metric[p], positions[q] - positions[p], options.space, log_ratio);
       ++report.edge_checks;
       if (contains_scaled(metric[q], accept, P)) continue;
       metric[q] = intersect(metric[q], P);

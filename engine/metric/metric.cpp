@@ -280,6 +280,27 @@ std::array<double, 3> generalized_eigenvalues(const SymTensor3& A, const SymTens
   return eigen_decompose(sandwich(lower_inverse(L), A)).values;
 }
 
+double largest_generalized_eigenvalue(const SymTensor3& A, const SymTensor3& B) {
+  Mat3 L;
+  if (!cholesky(B, L)) return std::numeric_limits<double>::quiet_NaN();
+  return largest_eigenvalue(sandwich(lower_inverse(L), A));
+}
+
+double largest_eigenvalue(const SymTensor3& M) {
+  const auto& a = M.m;
+  const double off_diagonal = a[1] * a[1] + a[3] * a[3] + a[4] * a[4];
+  if (off_diagonal == 0) return std::fmax(a[0], std::fmax(a[2], a[5]));
+  // M = q I + p B with trace(B) = 0 and |B|_F^2 = 6: the eigenvalues of B are
+  // 2 cos(phi + 2 pi k / 3), phi = acos(det(B) / 2) / 3 in [0, pi / 3].
+  const double q = (a[0] + a[2] + a[5]) / 3.0;
+  const SymTensor3 shifted(a[0] - q, a[1], a[2] - q, a[3], a[4], a[5] - q);
+  const auto& b = shifted.m;
+  const double p = std::sqrt((b[0] * b[0] + b[2] * b[2] + b[5] * b[5] + 2.0 * off_diagonal) / 6.0);
+  const double half_det = 0.5 * det(shifted) / (p * p * p);
+  const double phi = std::acos(std::clamp(half_det, -1.0, 1.0)) / 3.0;
+  return q + 2.0 * p * std::cos(phi);
+}
+
 SymTensor3 intersect(const SymTensor3& M1, const SymTensor3& M2) {
   Mat3 L;
   if (!cholesky(M1, L)) return M2;
