@@ -10,10 +10,13 @@ namespace {
 
 using Mat3 = std::array<std::array<double, 3>, 3>;
 
+// Where entry (i, j) of a symmetric 3 x 3 matrix is in SymTensor3::m.
+constexpr int kSlot[3][3] = {{0, 1, 3}, {1, 2, 4}, {3, 4, 5}};
+
 Mat3 to_mat(const SymTensor3& M) {
   Mat3 a;
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) a[i][j] = M(i, j);
+    for (int j = 0; j < 3; ++j) a[i][j] = M.m[kSlot[i][j]];
   return a;
 }
 
@@ -57,8 +60,7 @@ SymTensor3 sandwich(const Mat3& X, const SymTensor3& A) {
   SymTensor3 out;
   for (int i = 0; i < 3; ++i)
     for (int j = i; j < 3; ++j) {
-      const double v = XA[i][0] * X[j][0] + XA[i][1] * X[j][1] + XA[i][2] * X[j][2];
-      out(i, j) = v;
+      out.m[kSlot[i][j]] = XA[i][0] * X[j][0] + XA[i][1] * X[j][1] + XA[i][2] * X[j][2];
     }
   return out;
 }
@@ -152,8 +154,10 @@ SymEigen3 eigen_decompose(const SymTensor3& M) {
     }
     if (!rotated) break;
   }
+  // Ascending eigenvalues, equal ones in their original order.
   std::array<int, 3> order = {0, 1, 2};
-  std::sort(order.begin(), order.end(), [&](int i, int j) { return a[i][i] < a[j][j]; });
+  for (int i = 1; i < 3; ++i)
+    for (int k = i; k > 0 && a[order[k]][order[k]] < a[order[k - 1]][order[k - 1]]; --k) std::swap(order[k], order[k - 1]);
   for (int i = 0; i < 3; ++i) {
     const int k = order[i];
     out.values[i] = a[k][k] * scale;
