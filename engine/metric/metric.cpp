@@ -78,6 +78,73 @@ SymTensor3 spectral(const SymTensor3& M, F f) {
   return compose(e.values, e.vectors);
 }
 
+// Among the cross products of two rows of A - lambda I, the longest: a
+// vector of the null space when lambda is a simple eigenvalue of A.
+Vec3 null_vector(const SymTensor3& A, double lambda) {
+  const auto& a = A.m;
+  const Vec3 r0(a[0] - lambda, a[1], a[3]), r1(a[1], a[2] - lambda, a[4]), r2(a[3], a[4], a[5] - lambda);
+  Vec3 best = cross(r0, r1);
+  for (const Vec3& c : {cross(r0, r2), cross(r1, r2)})
+    if (norm2(c) > norm2(best)) best = c;
+  return best;
+}
+
+// A unit vector orthogonal to the unit vector v.
+Vec3 orthogonal_unit(const Vec3& v) {
+  const Vec3 axis = std::fabs(v.x) <= std::fabs(v.y) && std::fabs(v.x) <= std::fabs(v.z) ? Vec3(1, 0, 0)
+                    : std::fabs(v.y) <= std::fabs(v.z)                                   ? Vec3(0, 1, 0)
+                                                                                         : Vec3(0, 0, 1);
+  return normalized(axis - dot(axis, v) * v);
+}
+
+// Eigen-decomposition of a symmetric 3 x 3 matrix without iterations: the
+// eigenvalues from the trigonometric solution of the characteristic cubic,
+// the vector of the one farthest from the other two from a cross product of
+// rows of M - lambda I, the other two by the exact rotation of the 2 x 2
+// restriction to the plane orthogonal to it; the values are the Rayleigh
+// quotients of the vectors. Accurate to round-off relative to the largest
+// |eigenvalue| (eigen_decompose, Jacobi, also keeps the small eigenvalues of
+// SPD tensors accurate). Diagonal and non-finite matrices, and three equal
+// eigenvalues, go to eigen_decompose.
+SymEigen3 direct_eigen_decompose(const SymTensor3& M) {
+  double scale = 0;
+  for (double x : M.m) scale = std::fmax(scale, std::fabs(x));
+  const auto& m = M.m;
+  if (!(scale > 0) || !std::isfinite(scale) || m[1] * m[1] + m[3] * m[3] + m[4] * m[4] == 0) return eigen_decompose(M);
+  const SymTensor3 A = M * (1.0 / scale);
+  const auto& a = A.m;
+  const double q = (a[0] + a[2] + a[5]) / 3.0;
+  const SymTensor3 shifted(a[0] - q, a[1], a[2] - q, a[3], a[4], a[5] - q);
+  const auto& b = shifted.m;
+  const double p =
+      std::sqrt((b[0] * b[0] + b[2] * b[2] + b[5] * b[5] + 2.0 * (b[1] * b[1] + b[3] * b[3] + b[4] * b[4])) / 6.0);
+  const double phi = std::acos(std::clamp(0.5 * det(shifted) / (p * p * p), -1.0, 1.0)) / 3.0;
+  const double largest = q + 2.0 * p * std::cos(phi);
+  const double smallest = q + 2.0 * p * std::cos(phi + 2.0 * M_PI / 3.0);
+  const double middle = 3.0 * q - largest - smallest;
+  const double isolated = largest - middle >= middle - smallest ? largest : smallest;
+  const Vec3 n = null_vector(A, isolated);
+  if (!(norm2(n) > 0)) return eigen_decompose(M);
+  SymEigen3 out;
+  out.vectors[0] = normalized(n);
+  const Vec3 u = orthogonal_unit(out.vectors[0]), w = cross(out.vectors[0], u);
+  // The 2 x 2 restriction [[uAu, uAw], [uAw, wAw]] is diagonal after a
+  // rotation by theta.
+  const Vec3 Au = A * u;
+  const double theta = 0.5 * std::atan2(2.0 * dot(w, Au), dot(u, Au) - quad(A, w));
+  const double c = std::cos(theta), s = std::sin(theta);
+  out.vectors[1] = c * u + s * w;
+  out.vectors[2] = c * w - s * u;
+  for (int i = 0; i < 3; ++i) out.values[i] = quad(A, out.vectors[i]);
+  for (int i = 1; i < 3; ++i)
+    for (int k = i; k > 0 && out.values[k] < out.values[k - 1]; --k) {
+      std::swap(out.values[k], out.values[k - 1]);
+      std::swap(out.vectors[k], out.vectors[k - 1]);
+    }
+  for (double& v : out.values) v *= scale;
+  return out;
+}
+
 }  // namespace
 
 SymTensor3 inverse(const SymTensor3& M) {
@@ -290,27 +357,14 @@ double largest_generalized_eigenvalue(const SymTensor3& A, const SymTensor3& B) 
   return largest_eigenvalue(sandwich(lower_inverse(L), A));
 }
 
-double largest_eigenvalue(const SymTensor3& M) {
-  const auto& a = M.m;
-  const double off_diagonal = a[1] * a[1] + a[3] * a[3] + a[4] * a[4];
-  if (off_diagonal == 0) return std::fmax(a[0], std::fmax(a[2], a[5]));
-  // M = q I + p B with trace(B) = 0 and |B|_F^2 = 6: the eigenvalues of B are
-  // 2 cos(phi + 2 pi k / 3), phi = acos(det(B) / 2) / 3 in [0, pi / 3].
-  const double q = (a[0] + a[2] + a[5]) / 3.0;
-  const SymTensor3 shifted(a[0] - q, a[1], a[2] - q, a[3], a[4], a[5] - q);
-  const auto& b = shifted.m;
-  const double p = std::sqrt((b[0] * b[0] + b[2] * b[2] + b[5] * b[5] + 2.0 * off_diagonal) / 6.0);
-  const double half_det = 0.5 * det(shifted) / (p * p * p);
-  const double phi = std::acos(std::clamp(half_det, -1.0, 1.0)) / 3.0;
-  return q + 2.0 * p * std::cos(phi);
-}
+double largest_eigenvalue(const SymTensor3& M) { return direct_eigen_decompose(M).values[2]; }
 
 SymTensor3 intersect(const SymTensor3& M1, const SymTensor3& M2) {
   Mat3 L;
   if (!cholesky(M1, L)) return M2;
   // C = L^-1 M2 L^-T = Q D Q^T; result = L Q max(I, D) Q^T L^T
   //                                    = M1 + sum_{d_i > 1} (d_i - 1) (L q_i)(L q_i)^T.
-  const SymEigen3 e = eigen_decompose(sandwich(lower_inverse(L), M2));
+  const SymEigen3 e = direct_eigen_decompose(sandwich(lower_inverse(L), M2));
   SymTensor3 out = M1;
   for (int i = 0; i < 3; ++i)
     if (e.values[i] > 1.0) out += (e.values[i] - 1.0) * SymTensor3::outer(mat_vec(L, e.vectors[i]));

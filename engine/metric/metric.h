@@ -199,11 +199,11 @@ SymTensor3 tensor_power(const SymTensor3& M, double p);
 // Pre: B SPD, A symmetric. The Rayleigh quotient u^T A u / u^T B u lies in
 // [values[0], values[2]].
 std::array<double, 3> generalized_eigenvalues(const SymTensor3& A, const SymTensor3& B);
-// The largest of them (closed form, no iteration); NaN unless B is SPD.
+// The largest of them (no iteration, see largest_eigenvalue); NaN unless B is SPD.
 double largest_generalized_eigenvalue(const SymTensor3& A, const SymTensor3& B);
-// The largest eigenvalue of M, in closed form (the trigonometric solution of
-// the characteristic cubic): accurate to round-off relative to the largest
-// eigenvalue's magnitude, not to the smaller ones'.
+// The largest eigenvalue of M without iterations (the cubic's trigonometric
+// solution, refined as a Rayleigh quotient): accurate to round-off relative
+// to the largest |eigenvalue|, repeated eigenvalues included.
 double largest_eigenvalue(const SymTensor3& M);
 
 // Intersection by simultaneous reduction: in the basis where M1 = I and M2 =
