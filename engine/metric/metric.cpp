@@ -100,7 +100,7 @@ Vec3 orthogonal_unit(const Vec3& v) {
 // Eigen-decomposition of a symmetric 3 x 3 matrix without iterations: the
 // eigenvalues from the trigonometric solution of the characteristic cubic,
 // the vector of the one farthest from the other two from a cross product of
-// rows of M - lambda I, the other two by the exact rotation of the 2 x 2
+// rows of M - lambda I, the other two by the Jacobi rotation of the 2 x 2
 // restriction to the plane orthogonal to it; the values are the Rayleigh
 // quotients of the vectors. Accurate to round-off relative to the largest
 // |eigenvalue| (eigen_decompose, Jacobi, also keeps the small eigenvalues of
@@ -119,8 +119,9 @@ SymEigen3 direct_eigen_decompose(const SymTensor3& M) {
   const double p =
       std::sqrt((b[0] * b[0] + b[2] * b[2] + b[5] * b[5] + 2.0 * (b[1] * b[1] + b[3] * b[3] + b[4] * b[4])) / 6.0);
   const double phi = std::acos(std::clamp(0.5 * det(shifted) / (p * p * p), -1.0, 1.0)) / 3.0;
-  const double largest = q + 2.0 * p * std::cos(phi);
-  const double smallest = q + 2.0 * p * std::cos(phi + 2.0 * M_PI / 3.0);
+  const double cos_phi = std::cos(phi), sin_phi = std::sin(phi);
+  const double largest = q + 2.0 * p * cos_phi;
+  const double smallest = q - p * (cos_phi + std::sqrt(3.0) * sin_phi);  // q + 2 p cos(phi + 2 pi / 3)
   const double middle = 3.0 * q - largest - smallest;
   const double isolated = largest - middle >= middle - smallest ? largest : smallest;
   const Vec3 n = null_vector(A, isolated);
@@ -128,13 +129,20 @@ SymEigen3 direct_eigen_decompose(const SymTensor3& M) {
   SymEigen3 out;
   out.vectors[0] = normalized(n);
   const Vec3 u = orthogonal_unit(out.vectors[0]), w = cross(out.vectors[0], u);
-  // The 2 x 2 restriction [[uAu, uAw], [uAw, wAw]] is diagonal after a
-  // rotation by theta.
+  // The 2 x 2 restriction [[uAu, uAw], [uAw, wAw]], diagonalised by the
+  // plane rotation (c, -s), (s, c) of a Jacobi step.
   const Vec3 Au = A * u;
-  const double theta = 0.5 * std::atan2(2.0 * dot(w, Au), dot(u, Au) - quad(A, w));
-  const double c = std::cos(theta), s = std::sin(theta);
-  out.vectors[1] = c * u + s * w;
-  out.vectors[2] = c * w - s * u;
+  const double uw = dot(w, Au);
+  double c = 1, s = 0;
+  if (uw != 0) {
+    const double tau = (quad(A, w) - dot(u, Au)) / (2.0 * uw);
+    const double t = std::fabs(tau) > 1e150 ? 0.5 / tau
+                                             : (tau >= 0 ? 1.0 : -1.0) / (std::fabs(tau) + std::sqrt(1.0 + tau * tau));
+    c = 1.0 / std::sqrt(1.0 + t * t);
+    s = t * c;
+  }
+  out.vectors[1] = c * u - s * w;
+  out.vectors[2] = s * u + c * w;
   for (int i = 0; i < 3; ++i) out.values[i] = quad(A, out.vectors[i]);
   for (int i = 1; i < 3; ++i)
     for (int k = i; k > 0 && out.values[k] < out.values[k - 1]; --k) {
