@@ -8,9 +8,18 @@ namespace anisurf {
 namespace {
 
 // Whether the largest eigenvalue of Mq^-1 P is below `factor`: factor Mq - P
-// positive definite (a Cholesky factorisation, no eigen-decomposition).
+// positive definite, its L D L^T factorisation with positive pivots (no
+// eigen-decomposition, no square root). False for non-finite entries.
 bool contains_scaled(const SymTensor3& Mq, double factor, const SymTensor3& P) {
-  return is_spd(factor * Mq - P);
+  const SymTensor3 A = factor * Mq - P;
+  const auto& a = A.m;
+  if (!(a[0] > 0)) return false;
+  const double l10 = a[1] / a[0], l20 = a[3] / a[0];
+  const double d1 = a[2] - l10 * a[1];
+  if (!(d1 > 0)) return false;
+  const double r21 = a[4] - l20 * a[1];  // d1 l21
+  const double d2 = a[5] - l20 * a[3] - r21 * r21 / d1;
+  return d2 > 0;
 }
 
 // propagate_metric with ln(ratio) computed once by the caller.
@@ -71,12 +80,19 @@ class WorkList {
   std::vector<char> queued_;
 };
 
-// The largest edge_gradation_excess over the edges.
+// The largest edge_gradation_excess over the edges. An edge direction whose
+// excess is below the largest so far (a Cholesky test) is not measured.
 double largest_excess(const std::vector<Vec3>& positions, const std::vector<std::array<int, 2>>& edges,
                       const std::vector<SymTensor3>& metric, const GradationOptions& options) {
+  const double log_ratio = std::log(options.ratio);
   double worst = 1.0;
   for (const auto& e : edges)
-    worst = std::fmax(worst, edge_gradation_excess(metric[e[0]], metric[e[1]], positions[e[1]] - positions[e[0]], options));
+    for (int side = 0; side < 2; ++side) {
+      const int p = e[side], q = e[1 - side];
+      const SymTensor3 P = propagated(metric[p], positions[q] - positions[p], options.space, log_ratio);
+      if (contains_scaled(metric[q], worst * worst, P)) continue;
+      worst = std::fmax(worst, std::sqrt(largest_generalized_eigenvalue(P, metric[q])));
+    }
   return worst;
 }
 
