@@ -81,7 +81,7 @@ class WorkList {
 };
 
 // The largest edge_gradation_excess over the edges. An edge direction whose
-// excess is below the largest so far (a Cholesky test) is not measured.
+// excess is below the largest so far (contains_scaled) is not measured.
 double largest_excess(const std::vector<Vec3>& positions, const std::vector<std::array<int, 2>>& edges,
                       const std::vector<SymTensor3>& metric, const GradationOptions& options) {
   const double log_ratio = std::log(options.ratio);
