@@ -1,8 +1,11 @@
 // Throughput of the metric kernels: edge lengths (eq. 6, eq. 7), metric
 // interpolation (linear, Remark 2's inverse, linear size, log-Euclidean),
 // eigen-decompositions (Jacobi against Eigen's solvers), intersections; with
-// MESH SOL also the gradation and the quality measure on that mesh.
+// MESH SOL also the gradation and the quality measure on that mesh; with
+// --geometric MESH the steps of the geometric metric (adapt --curvature
+// --hausd D) on that mesh, each timed apart (best of REPEATS runs).
 //   usage: bench_metric [MESH SOL [RATIO]]
+//          bench_metric --geometric MESH [HAUSD [REPEATS]]   (HAUSD default: 0.001 x diagonal)
 #include <Eigen/Dense>
 #include <chrono>
 #include <cstdio>
@@ -13,8 +16,11 @@
 #include "io/mesh_io.h"
 #include "metric/gradation.h"
 #include "metric/length.h"
+#include "metric/hessian.h"
 #include "metric/mesh_quality.h"
 #include "metric/metric_field.h"
+#include "metric/recipe.h"
+#include "metric/surface_metric.h"
 
 using namespace anisurf;
 
@@ -40,9 +46,66 @@ double rate(F f, int n, double min_seconds = 0.5) {
 
 volatile double g_sink = 0;
 
+// Best wall time of `repeats` calls of f.
+template <class F>
+double best_seconds(int repeats, F f) {
+  double best = 1e300;
+  for (int k = 0; k < repeats; ++k) {
+    const double t0 = now();
+    f();
+    best = std::fmin(best, now() - t0);
+  }
+  return best;
+}
+
+// The steps of build_metric for --curvature --hausd D (gradation 1.3), and
+// the hausd intersection another source goes through, timed one by one.
+int bench_geometric_metric(const std::string& path, double hausd, int repeats) {
+  BuildReport r;
+  SurfaceMesh mesh = load_mesh(path, &r);
+  const double diagonal = mesh.bbox().diagonal();
+  if (!(hausd > 0)) hausd = 1e-3 * diagonal;
+  std::printf("%s: %d vertices, %d triangles, hausd %g (%.2g x diagonal), best of %d\n", path.c_str(),
+              mesh.n_vertices(), mesh.n_triangles(), hausd, hausd / diagonal, repeats);
+  auto step = [](const char* name, double seconds) { std::printf("  %-40s %8.4f s\n", name, seconds); };
+
+  std::vector<Vec3> normals;
+  step("fitted normals", best_seconds(repeats, [&] { normals = fitted_normals(mesh); }));
+  std::vector<SymTensor3> II;
+  step("curvature (normals + 2nd form fit)", best_seconds(repeats, [&] { II = recover_curvature(mesh); }));
+  MetricField curvature;
+  step("curvature metric (all of it)", best_seconds(repeats, [&] { curvature = curvature_metric(mesh, hausd); }));
+  MetricField intersected;
+  step("hausd intersection (iso diagonal/60)", best_seconds(repeats, [&] {
+         intersected.assign(curvature.size(), isotropic_metric(diagonal / 60));
+         for (Vertex v : mesh.vertices()) intersected[v.idx] = intersect(intersected[v.idx], curvature[v.idx]);
+       }));
+  MetricField graded;
+  GradationReport gr;
+  step("gradation 1.3", best_seconds(repeats, [&] {
+         graded = curvature;
+         gr = gradate_metric(mesh, graded, GradationOptions{});
+       }));
+  std::printf("  %-40s %lld edge checks, %lld updates at %d vertices, %s\n", "", gr.edge_checks, gr.updates,
+              gr.vertices_changed, gr.converged ? "converged" : "NOT converged");
+  double predicted = 0;
+  step("predicted vertices", best_seconds(repeats, [&] { predicted = predicted_vertices(mesh, graded); }));
+  MetricRecipe recipe;
+  recipe.source = MetricRecipe::Source::Curvature;
+  recipe.hausd = hausd;
+  MetricResult built;
+  step("build_metric (curvature, hausd, hgrad 1.3)",
+       best_seconds(repeats, [&] { built = build_metric(mesh, recipe, r.vertex_origin); }));
+  std::printf("  predicted vertices: curvature %.0f, graded %.0f, build_metric %.0f\n",
+              predicted_vertices(mesh, curvature), predicted, built.predicted_vertices);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc >= 3 && std::string(argv[1]) == "--geometric")
+    return bench_geometric_metric(argv[2], argc >= 4 ? std::stod(argv[3]) : 0.0, argc >= 5 ? std::stoi(argv[4]) : 3);
   const int n = 1 << 14;
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> lh(std::log(1e-3), 0.0);

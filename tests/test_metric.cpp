@@ -46,7 +46,84 @@ Eigen::Matrix3d to_eigen(const SymTensor3& M) {
 
 double rel_diff(const SymTensor3& a, const SymTensor3& b) { return frobenius_norm(a - b) / frobenius_norm(b); }
 
+// The intersection by simultaneous reduction, the eigen-decomposition of
+// L^-1 M2 L^-T (M1 = L L^T) by Eigen's solver or by the Jacobi one.
+SymTensor3 reference_intersection(const SymTensor3& M1, const SymTensor3& M2, bool jacobi) {
+  Eigen::Matrix3d A, B;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      A(i, j) = M1(i, j);
+      B(i, j) = M2(i, j);
+    }
+  const Eigen::Matrix3d L = A.llt().matrixL();
+  const Eigen::Matrix3d Li = L.inverse();
+  const Eigen::Matrix3d C = Li * B * Li.transpose();
+  Eigen::Vector3d values;
+  Eigen::Matrix3d vectors;
+  if (jacobi) {
+    const SymEigen3 e = eigen_decompose(SymTensor3(C(0, 0), C(0, 1), C(1, 1), C(0, 2), C(1, 2), C(2, 2)));
+    for (int k = 0; k < 3; ++k) {
+      values(k) = e.values[k];
+      vectors.col(k) = Eigen::Vector3d(e.vectors[k].x, e.vectors[k].y, e.vectors[k].z);
+    }
+  } else {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(C);
+    values = es.eigenvalues();
+    vectors = es.eigenvectors();
+  }
+  Eigen::Matrix3d R = A;
+  for (int k = 0; k < 3; ++k)
+    if (values(k) > 1) {
+      const Eigen::Vector3d w = L * vectors.col(k);
+      R += (values(k) - 1) * w * w.transpose();
+    }
+  return {R(0, 0), R(0, 1), R(1, 1), R(0, 2), R(1, 2), R(2, 2)};
+}
+
+// intersect(A, B) is about as close to Eigen's result as the Jacobi solver's is
+// (round-off of tensors with sizes 1e-4 .. 10: condition numbers up to 1e10).
+void check_intersection(const SymTensor3& A, const SymTensor3& B) {
+  const SymTensor3 eigen = reference_intersection(A, B, false);
+  const double jacobi_error = rel_diff(reference_intersection(A, B, true), eigen);
+  CHECK(rel_diff(intersect(A, B), eigen) <= std::fmax(10 * jacobi_error, 1e-11));
+}
+
 }  // namespace
+
+TEST_CASE("metric: the closed-form largest eigenvalue agrees with Jacobi, repeated eigenvalues included") {
+  std::mt19937 rng(11);
+  for (int k = 0; k < 2000; ++k) {
+    const SymTensor3 M = random_metric(rng, 1e-3, 1.0);
+    const double jacobi = eigen_decompose(M).values[2];
+    CHECK(largest_eigenvalue(M) == doctest::Approx(jacobi).epsilon(1e-12));
+    const SymTensor3 N = random_metric(rng, 1e-2, 1.0);
+    CHECK(largest_generalized_eigenvalue(M, N) == doctest::Approx(generalized_eigenvalues(M, N)[2]).epsilon(1e-11));
+  }
+  const Vec3 a = normalized(Vec3(1, 2, 3)), b = normalized(cross(a, Vec3(0, 0, 1))), c = cross(a, b);
+  for (const std::array<double, 3>& sizes : std::initializer_list<std::array<double, 3>>{
+           {1, 1, 1}, {0.1, 1, 1}, {0.1, 0.1, 1}, {1e-4, 1, 1}, {1, 1, 1e-4}, {0.5, 0.5, 0.5 * (1 + 1e-12)}}) {
+    const SymTensor3 M = metric_from_sizes(sizes, {a, b, c});
+    CHECK(largest_eigenvalue(M) == doctest::Approx(eigen_decompose(M).values[2]).epsilon(1e-12));
+  }
+  CHECK(largest_eigenvalue(SymTensor3::diagonal(3, -7, 2)) == 3);
+  CHECK(largest_eigenvalue(SymTensor3(1, 1, 1, 0, 0, 0)) == doctest::Approx(2).epsilon(1e-15));  // rank 1 block
+  CHECK(std::isnan(largest_generalized_eigenvalue(SymTensor3::identity(), SymTensor3(1, 2, 1, 0, 0, 1))));
+}
+
+TEST_CASE("metric: the intersection is as accurate as with the Jacobi solver, strong anisotropy and equal eigenvalues") {
+  std::mt19937 rng(5);
+  for (int k = 0; k < 2000; ++k) {
+    const SymTensor3 A = random_metric(rng, 1e-4, 10.0), B = random_metric(rng, 1e-4, 10.0);
+    check_intersection(A, B);
+    // B propagated from A, as the gradation does: a scaled copy of A, or A
+    // with one direction stretched (a double eigenvalue of A^-1 B).
+    for (double s : {0.5, 1.0, 2.0}) check_intersection(A, s * A);
+    const Vec3 u = normalized(Vec3(1, -2, 0.5));
+    const SymTensor3 C = A + 3.0 * quad(A, u) * SymTensor3::outer(u);
+    check_intersection(A, C);
+    CHECK(rel_diff(intersect(C, A), C) < 1e-12);
+  }
+}
 
 TEST_CASE("metric: storage follows the .sol order m11 m12 m22 m13 m23 m33") {
   SymTensor3 M(1, 2, 3, 4, 5, 6);

@@ -85,6 +85,25 @@ SurfaceMesh icosphere(int levels) {
   return m;
 }
 
+// Open cylinder of radius r around z, n vertices around, k rows 2 pi r / n
+// apart from z = 0, outward triangles.
+SurfaceMesh cylinder(double r, int n, int k) {
+  SurfaceMesh m;
+  const double dz = 2 * M_PI * r / n;
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double t = 2 * M_PI * (i + 0.5 * (j % 2)) / n;
+      m.add_vertex(Vec3(r * std::cos(t), r * std::sin(t), j * dz));
+    }
+  auto id = [n](int i, int j) { return Vertex(j * n + (i % n)); };
+  for (int j = 0; j + 1 < k; ++j)
+    for (int i = 0; i < n; ++i) {
+      m.add_triangle(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      m.add_triangle(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  return m;
+}
+
 // f(p) = p^T A p + b.p + 1 (A symmetric): gradient 2 A p + b, Hessian 2 A.
 struct Quadratic {
   SymTensor3 A;
@@ -198,6 +217,29 @@ TEST_CASE("hessian: curvature of the sphere and the geometric metric for hausd")
   const SurfaceMesh flat = irregular_plane(8, Vec3(), Vec3(1, 0, 0), Vec3(0, 1, 0), 5);
   const MetricField F = curvature_metric(flat, hausd, b);
   for (const SymTensor3& X : F) CHECK(frobenius_norm(X - isotropic_metric(0.3)) < 1e-9 * frobenius_norm(X));
+}
+
+TEST_CASE("hessian: the geometric metric of a cylinder: sqrt(8 hausd r) across, hmax along the axis") {
+  const double r = 2, hausd = 1e-3, hmax = 1.5;
+  const int n = 96, k = 40;
+  const SurfaceMesh m = cylinder(r, n, k);
+  MetricBounds b;
+  b.hmax = hmax;
+  const MetricField M = curvature_metric(m, hausd, b);
+  double worst_across = 0, worst_along = 0;
+  for (int j = 3; j < k - 3; ++j)  // away from the open ends
+    for (int i = 0; i < n; ++i) {
+      const Vertex v(j * n + i);
+      const Vec3 p = m.position(v);
+      const Vec3 across = normalized(Vec3(-p.y, p.x, 0));
+      const double h_across = 1 / metric_length(M[v.idx], across);
+      const double h_along = 1 / metric_length(M[v.idx], Vec3(0, 0, 1));
+      worst_across = std::max(worst_across, std::fabs(h_across / std::sqrt(8 * hausd * r) - 1));
+      worst_along = std::max(worst_along, std::fabs(h_along / hmax - 1));
+    }
+  MESSAGE("cylinder r = 2: sizes across within " << worst_across << ", along within " << worst_along);
+  CHECK(worst_across < 1e-2);
+  CHECK(worst_along < 1e-4);  // principal directions a hair off the axis mix in the size across
 }
 
 TEST_CASE("hessian metric: f = 100 x^2 on the flat square gives diag(2/9 200/eps, hmax^-2, hmax^-2)") {

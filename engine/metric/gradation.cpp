@@ -5,9 +5,26 @@
 
 namespace anisurf {
 
-SymTensor3 propagate_metric(const SymTensor3& Mp, const Vec3& e, const GradationOptions& options) {
-  const double log_ratio = std::log(options.ratio);
-  if (options.space == GradationSpace::Metric) {
+namespace {
+
+// Whether the largest eigenvalue of Mq^-1 P is below `factor`: factor Mq - P
+// positive definite, its L D L^T factorisation with positive pivots (no
+// eigen-decomposition, no square root). False for non-finite entries.
+bool contains_scaled(const SymTensor3& Mq, double factor, const SymTensor3& P) {
+  const SymTensor3 A = factor * Mq - P;
+  const auto& a = A.m;
+  if (!(a[0] > 0)) return false;
+  const double l10 = a[1] / a[0], l20 = a[3] / a[0];
+  const double d1 = a[2] - l10 * a[1];
+  if (!(d1 > 0)) return false;
+  const double r21 = a[4] - l20 * a[1];  // d1 l21
+  const double d2 = a[5] - l20 * a[3] - r21 * r21 / d1;
+  return d2 > 0;
+}
+
+// propagate_metric with ln(ratio) computed once by the caller.
+SymTensor3 propagated(const SymTensor3& Mp, const Vec3& e, GradationSpace space, double log_ratio) {
+  if (space == GradationSpace::Metric) {
     const double eta = 1.0 / (1.0 + metric_length(Mp, e) * log_ratio);
     return (eta * eta) * Mp;
   }
@@ -20,8 +37,73 @@ SymTensor3 propagate_metric(const SymTensor3& Mp, const Vec3& e, const Gradation
   return compose(d.values, d.vectors);
 }
 
+// The neighbours of each vertex along the edges, in compressed rows.
+struct Adjacency {
+  std::vector<int> start, neighbour;
+  Adjacency(int n, const std::vector<std::array<int, 2>>& edges) : start(n + 1, 0), neighbour(2 * edges.size()) {
+    for (const auto& e : edges) {
+      ++start[e[0] + 1];
+      ++start[e[1] + 1];
+    }
+    for (int i = 0; i < n; ++i) start[i + 1] += start[i];
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (const auto& e : edges) {
+      neighbour[fill[e[0]]++] = e[1];
+      neighbour[fill[e[1]]++] = e[0];
+    }
+  }
+};
+
+// The vertices whose metric is still to be spread to their neighbours, first
+// in first out, each queued once at a time (all of them at the start).
+class WorkList {
+ public:
+  explicit WorkList(int n) : queued_(n, 1) {
+    for (int v = 0; v < n; ++v) fifo_.push_back(v);
+  }
+  void push(int v) {
+    if (queued_[v]) return;
+    queued_[v] = 1;
+    fifo_.push_back(v);
+  }
+  // The next vertex, or -1 when none is left.
+  int pop() {
+    if (fifo_.empty()) return -1;
+    const int v = fifo_.front();
+    fifo_.pop_front();
+    queued_[v] = 0;
+    return v;
+  }
+
+ private:
+  std::deque<int> fifo_;
+  std::vector<char> queued_;
+};
+
+// The largest edge_gradation_excess over the edges. An edge direction whose
+// excess is below the largest so far (contains_scaled) is not measured.
+double largest_excess(const std::vector<Vec3>& positions, const std::vector<std::array<int, 2>>& edges,
+                      const std::vector<SymTensor3>& metric, const GradationOptions& options) {
+  const double log_ratio = std::log(options.ratio);
+  double worst = 1.0;
+  for (const auto& e : edges)
+    for (int side = 0; side < 2; ++side) {
+      const int p = e[side], q = e[1 - side];
+      const SymTensor3 P = propagated(metric[p], positions[q] - positions[p], options.space, log_ratio);
+      if (contains_scaled(metric[q], worst * worst, P)) continue;
+      worst = std::fmax(worst, std::sqrt(largest_generalized_eigenvalue(P, metric[q])));
+    }
+  return worst;
+}
+
+}  // namespace
+
+SymTensor3 propagate_metric(const SymTensor3& Mp, const Vec3& e, const GradationOptions& options) {
+  return propagated(Mp, e, options.space, std::log(options.ratio));
+}
+
 double gradation_excess(const SymTensor3& Mp, const SymTensor3& Mq, const Vec3& e, const GradationOptions& options) {
-  return std::sqrt(generalized_eigenvalues(propagate_metric(Mp, e, options), Mq)[2]);
+  return std::sqrt(largest_generalized_eigenvalue(propagate_metric(Mp, e, options), Mq));
 }
 
 double edge_gradation_excess(const SymTensor3& Mp, const SymTensor3& Mq, const Vec3& e,
@@ -44,46 +126,25 @@ GradationReport gradate_metric(const std::vector<Vec3>& positions, const std::ve
     check_metric(metric[e[0]], e[0]);
     check_metric(metric[e[1]], e[1]);
   }
-  // Adjacency in compressed rows.
-  std::vector<int> start(n + 1, 0), nbr(2 * edges.size());
-  for (const auto& e : edges) {
-    ++start[e[0] + 1];
-    ++start[e[1] + 1];
-  }
-  for (int i = 0; i < n; ++i) start[i + 1] += start[i];
-  std::vector<int> fill(start.begin(), start.end() - 1);
-  for (const auto& e : edges) {
-    nbr[fill[e[0]]++] = e[1];
-    nbr[fill[e[1]]++] = e[0];
-  }
-
+  const Adjacency adjacency(n, edges);
   GradationReport report;
-  for (const auto& e : edges)
-    report.max_excess_before =
-        std::fmax(report.max_excess_before,
-                  edge_gradation_excess(metric[e[0]], metric[e[1]], positions[e[1]] - positions[e[0]], options));
+  report.max_excess_before = largest_excess(positions, edges, metric, options);
 
+  const double log_ratio = std::log(options.ratio);
   const double accept = (1.0 + options.tolerance) * (1.0 + options.tolerance);  // on eigenvalues of M_q^-1 P
   const long long cap = static_cast<long long>(options.max_updates_per_vertex) * std::max(n, 1);
-  std::deque<int> work;
-  std::vector<char> queued(n, 1), changed(n, 0);
-  for (int i = 0; i < n; ++i) work.push_back(i);
-  while (!work.empty()) {
-    const int p = work.front();
-    work.pop_front();
-    queued[p] = 0;
-    for (int k = start[p]; k < start[p + 1]; ++k) {
-      const int q = nbr[k];
-      const SymTensor3 P = propagate_metric(metric[p], positions[q] - positions[p], options);
+  WorkList work(n);
+  std::vector<char> changed(n, 0);
+  for (int p = work.pop(); p >= 0; p = work.pop()) {
+    for (int k = adjacency.start[p]; k < adjacency.start[p + 1]; ++k) {
+      const int q = adjacency.neighbour[k];
+      const SymTensor3 P = propagated(metric[p], positions[q] - positions[p], options.space, log_ratio);
       ++report.edge_checks;
-      if (generalized_eigenvalues(P, metric[q])[2] <= accept) continue;
+      if (contains_scaled(metric[q], accept, P)) continue;
       metric[q] = intersect(metric[q], P);
       ++report.updates;
       changed[q] = 1;
-      if (!queued[q]) {
-        queued[q] = 1;
-        work.push_back(q);
-      }
+      work.push(q);
     }
     if (report.updates >= cap) {
       report.converged = false;

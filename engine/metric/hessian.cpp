@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "mesh/operators.h"
 #include "metric/surface_metric.h"
@@ -52,6 +53,7 @@ enum class FitKind { None, Full, Reduced };
 // The columns of the local polynomial at the ring points, in the tangent frame
 // of n, coordinates scaled by s (the RMS distance to v): x, y, x^2/2, xy,
 // y^2/2 [, x^3, x^2 y, x y^2, y^3], lowest order first; b holds value(w) - value(v).
+// One is filled again and again (its storage reused).
 struct LocalSystem {
   Eigen::MatrixXd A;
   Eigen::VectorXd b;
@@ -60,9 +62,8 @@ struct LocalSystem {
 };
 
 template <class Value>
-LocalSystem local_system(const SurfaceMesh& mesh, Vertex v, const std::vector<int>& ring, const Vec3& n, int degree,
-                         Value value) {
-  LocalSystem ls;
+const LocalSystem& local_system(const SurfaceMesh& mesh, Vertex v, const std::vector<int>& ring, const Vec3& n,
+                                int degree, Value value, LocalSystem& ls) {
   ls.frame = tangent_frame(n);
   const Vec3 p0 = mesh.position(v);
   const int m = static_cast<int>(ring.size());
@@ -94,21 +95,122 @@ LocalSystem local_system(const SurfaceMesh& mesh, Vertex v, const std::vector<in
 
 // Gradient (tangent 3D vector) and Hessian (tangent 3D tensor) from the
 // coefficients of the scaled local polynomial.
-void write_derivatives(const LocalSystem& ls, const Eigen::VectorXd& a, Vec3& gradient, SymTensor3& hessian) {
+void write_derivatives(const LocalSystem& ls, const double* a, Vec3& gradient, SymTensor3& hessian) {
   const double s = ls.s;
-  gradient = (a(0) / s) * ls.frame[0] + (a(1) / s) * ls.frame[1];
-  hessian = extend_from_tangent(SymTensor2(a(2) / (s * s), a(3) / (s * s), a(4) / (s * s)), ls.frame[0], ls.frame[1],
+  gradient = (a[0] / s) * ls.frame[0] + (a[1] / s) * ls.frame[1];
+  hessian = extend_from_tangent(SymTensor2(a[2] / (s * s), a[3] / (s * s), a[4] / (s * s)), ls.frame[0], ls.frame[1],
                                 0.0);
 }
 
+// Householder QR with column pivoting (the remaining column of largest norm
+// first) of the small dense systems of the fits, storage reused from one
+// factorisation to the next.
+class PivotedQR {
+ public:
+  static constexpr int kMaxColumns = 9;
+
+  // Factorises A (rows >= columns, at most kMaxColumns columns). False when
+  // its numerical rank is below its column count: a pivot |R_kk| at most
+  // `threshold` times the largest one.
+  bool factor_full_rank(const Eigen::MatrixXd& A, double threshold) {
+    m_ = static_cast<int>(A.rows());
+    n_ = static_cast<int>(A.cols());
+    qr_.assign(A.data(), A.data() + static_cast<std::ptrdiff_t>(m_) * n_);
+    double largest = 0;
+    for (int k = 0; k < n_; ++k) {
+      swap_columns(k, column_of_largest_norm(k));
+      diagonal_[k] = reflect_column(k);
+      largest = std::fmax(largest, std::fabs(diagonal_[k]));
+      for (int j = k + 1; j < n_; ++j) apply_reflector(k, column(j));
+    }
+    for (int k = 0; k < n_; ++k)
+      if (!(std::fabs(diagonal_[k]) > threshold * largest)) return false;
+    return true;
+  }
+
+  // The least-squares solution x (n values) of A x = b, A full rank.
+  void solve(const Eigen::VectorXd& b, double* x) {
+    rhs_.assign(b.data(), b.data() + m_);
+    for (int k = 0; k < n_; ++k) apply_reflector(k, rhs_.data());
+    std::array<double, kMaxColumns> y{};
+    for (int k = n_ - 1; k >= 0; --k) {
+      double sum = rhs_[k];
+      for (int j = k + 1; j < n_; ++j) sum -= column(j)[k] * y[j];
+      y[k] = sum / diagonal_[k];
+    }
+    for (int k = 0; k < n_; ++k) x[permutation_[k]] = y[k];
+  }
+
+ private:
+  double* column(int j) { return qr_.data() + static_cast<std::ptrdiff_t>(j) * m_; }
+
+  // Among columns k.., the one whose rows k.. have the largest norm.
+  int column_of_largest_norm(int k) {
+    int best = k;
+    double best_norm2 = -1;
+    for (int j = k; j < n_; ++j) {
+      const double* c = column(j);
+      double norm2 = 0;
+      for (int i = k; i < m_; ++i) norm2 += c[i] * c[i];
+      if (norm2 > best_norm2) {
+        best_norm2 = norm2;
+        best = j;
+      }
+    }
+    return best;
+  }
+
+  void swap_columns(int k, int j) {
+    if (k == 0) std::iota(permutation_.begin(), permutation_.begin() + n_, 0);
+    if (j == k) return;
+    std::swap_ranges(column(k), column(k) + m_, column(j));
+    std::swap(permutation_[k], permutation_[j]);
+  }
+
+  // Turns rows k.. of column k into (beta, 0, ...) by the reflector
+  // I - tau v v^T, v = (1, v_k+1, ...) stored below the diagonal; returns beta.
+  double reflect_column(int k) {
+    double* c = column(k);
+    double tail2 = 0;
+    for (int i = k + 1; i < m_; ++i) tail2 += c[i] * c[i];
+    const double x0 = c[k];
+    if (tail2 == 0) {
+      tau_[k] = 0;
+      return x0;
+    }
+    const double beta = -std::copysign(std::sqrt(x0 * x0 + tail2), x0);
+    tau_[k] = (beta - x0) / beta;
+    const double scale = 1.0 / (x0 - beta);
+    for (int i = k + 1; i < m_; ++i) c[i] *= scale;
+    c[k] = beta;
+    return beta;
+  }
+
+  // Applies reflector k to rows k.. of the vector y.
+  void apply_reflector(int k, double* y) {
+    if (tau_[k] == 0) return;
+    const double* v = column(k);
+    double w = y[k];
+    for (int i = k + 1; i < m_; ++i) w += v[i] * y[i];
+    w *= tau_[k];
+    y[k] -= w;
+    for (int i = k + 1; i < m_; ++i) y[i] -= w * v[i];
+  }
+
+  int m_ = 0, n_ = 0;
+  std::vector<double> qr_, rhs_;
+  std::array<double, kMaxColumns> tau_{}, diagonal_{};
+  std::array<int, kMaxColumns> permutation_{};
+};
+
 // Least-squares fit of the full polynomial. False (writing nothing) when the
 // points do not determine it.
-bool solve_full(const LocalSystem& ls, Vec3& gradient, SymTensor3& hessian) {
+bool solve_full(const LocalSystem& ls, PivotedQR& qr, Vec3& gradient, SymTensor3& hessian) {
   if (ls.A.rows() < ls.A.cols()) return false;
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(ls.A);
-  qr.setThreshold(1e-10);
-  if (qr.rank() < ls.A.cols()) return false;
-  write_derivatives(ls, qr.solve(ls.b), gradient, hessian);
+  if (!qr.factor_full_rank(ls.A, 1e-10)) return false;
+  std::array<double, PivotedQR::kMaxColumns> a{};
+  qr.solve(ls.b, a.data());
+  write_derivatives(ls, a.data(), gradient, hessian);
   return true;
 }
 
@@ -187,9 +289,17 @@ int solve_reduced(const LocalSystem& ls, Vec3& gradient, SymTensor3& hessian) {
   a(2) = qs.x(0);
   a(3) = qs.x(1) / std::sqrt(2.0);
   a(4) = qs.x(2);
-  write_derivatives(ls, a, gradient, hessian);
+  write_derivatives(ls, a.data(), gradient, hessian);
   return resolved;
 }
+
+// What the fits at one vertex after another reuse.
+struct FitWorkspace {
+  explicit FitWorkspace(const SurfaceMesh& mesh) : rings(mesh) {}
+  RingCollector rings;
+  LocalSystem system;
+  PivotedQR qr;
+};
 
 int min_points(const HessianRecoveryOptions& o) { return std::max(o.min_points, o.degree >= 3 ? 12 : 6); }
 
@@ -201,20 +311,22 @@ int min_points(const HessianRecoveryOptions& o) { return std::max(o.min_points, 
 // when not even that (a vertex of a tiny component): the caller fills it in
 // (fill_unfitted).
 template <class Value>
-FitKind fit_at(const SurfaceMesh& mesh, Vertex v, RingCollector& rings, const Vec3& n,
+FitKind fit_at(const SurfaceMesh& mesh, Vertex v, FitWorkspace& work, const Vec3& n,
                const HessianRecoveryOptions& o, Value value, Vec3& gradient, SymTensor3& hessian) {
   const int top = std::min(std::max(o.degree, 2), 3);
   const int widest = std::max(o.rings, 4);
   for (int degree = top; degree >= 2; --degree)
     for (int r = o.rings; r <= widest; ++r)
-      if (solve_full(local_system(mesh, v, rings.collect(v, r, min_points(o)), n, degree, value), gradient, hessian))
+      if (solve_full(local_system(mesh, v, work.rings.collect(v, r, min_points(o)), n, degree, value, work.system),
+                     work.qr, gradient, hessian))
         return FitKind::Full;
   int best = 0;
   for (int degree = top; degree >= 2 && best == 0; --degree)
     for (int r = o.rings; r <= widest; ++r) {
       Vec3 g;
       SymTensor3 H;
-      const int k = solve_reduced(local_system(mesh, v, rings.collect(v, r, min_points(o)), n, degree, value), g, H);
+      const int k = solve_reduced(
+          local_system(mesh, v, work.rings.collect(v, r, min_points(o)), n, degree, value, work.system), g, H);
       if (k > best) {
         best = k;
         gradient = g;
@@ -292,11 +404,32 @@ SymTensor3 tangent_metric(const TangentAbs& t, double scale) {
   return extend_from_tangent(T, t.frame[0], t.frame[1], scale * std::min(t.values[0], t.values[1]));
 }
 
+// recover_curvature with the normals already fitted.
+std::vector<SymTensor3> second_fundamental_form(const SurfaceMesh& mesh, const std::vector<Vec3>& normal,
+                                                const HessianRecoveryOptions& options, int* unfitted) {
+  std::vector<SymTensor3> out(mesh.vertex_capacity());
+  FitWorkspace work(mesh);
+  std::vector<char> fitted(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
+  for (Vertex v : mesh.vertices()) {
+    const int i = v.idx;
+    if (mesh.is_isolated(v)) continue;
+    const Vec3 p0 = mesh.position(v), n = normal[i];
+    Vec3 g;
+    // Depth below the tangent plane: a sphere with outward normals has
+    // curvature +1 / R.
+    fitted[i] = fit_at(mesh, v, work, n, options, [&](Vertex w) { return -dot(mesh.position(w) - p0, n); }, g,
+                       out[i]) != FitKind::None;
+  }
+  const int missing = fill_unfitted(mesh, out, fitted, SymTensor3());
+  if (unfitted) *unfitted = missing;
+  return out;
+}
+
 }  // namespace
 
 std::vector<Vec3> fitted_normals(const SurfaceMesh& mesh, const HessianRecoveryOptions& options) {
   std::vector<Vec3> normal = vertex_normals(mesh);
-  RingCollector rings(mesh);
+  FitWorkspace work(mesh);
   for (Vertex v : mesh.vertices()) {
     const int i = v.idx;
     if (mesh.is_isolated(v)) continue;
@@ -306,7 +439,7 @@ std::vector<Vec3> fitted_normals(const SurfaceMesh& mesh, const HessianRecoveryO
     Vec3 slope;
     SymTensor3 unused;
     // Without a fit the area-weighted normal stays.
-    if (fit_at(mesh, v, rings, n, options, [&](Vertex w) { return dot(mesh.position(w) - p0, n); }, slope, unused) !=
+    if (fit_at(mesh, v, work, n, options, [&](Vertex w) { return dot(mesh.position(w) - p0, n); }, slope, unused) !=
         FitKind::None)
       normal[i] = normalized(n - slope);
   }
@@ -326,12 +459,12 @@ RecoveredDerivatives recover_derivatives(const SurfaceMesh& mesh, const std::vec
   out.normal = fitted_normals(mesh, options);
   out.gradient.assign(mesh.vertex_capacity(), Vec3());
   out.hessian.assign(mesh.vertex_capacity(), SymTensor3());
-  RingCollector rings(mesh);
+  FitWorkspace work(mesh);
   std::vector<char> fitted(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
   for (Vertex v : mesh.vertices()) {
     const int i = v.idx;
     if (mesh.is_isolated(v)) continue;
-    const FitKind kind = fit_at(mesh, v, rings, out.normal[i], options, [&](Vertex w) { return f[w.idx]; },
+    const FitKind kind = fit_at(mesh, v, work, out.normal[i], options, [&](Vertex w) { return f[w.idx]; },
                                 out.gradient[i], out.hessian[i]);
     fitted[i] = kind != FitKind::None;
     out.reduced += kind == FitKind::Reduced;
@@ -344,23 +477,7 @@ RecoveredDerivatives recover_derivatives(const SurfaceMesh& mesh, const std::vec
 
 std::vector<SymTensor3> recover_curvature(const SurfaceMesh& mesh, const HessianRecoveryOptions& options,
                                           int* unfitted) {
-  const std::vector<Vec3> normal = fitted_normals(mesh, options);
-  std::vector<SymTensor3> out(mesh.vertex_capacity());
-  RingCollector rings(mesh);
-  std::vector<char> fitted(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
-  for (Vertex v : mesh.vertices()) {
-    const int i = v.idx;
-    if (mesh.is_isolated(v)) continue;
-    const Vec3 p0 = mesh.position(v), n = normal[i];
-    Vec3 g;
-    // Depth below the tangent plane: a sphere with outward normals has
-    // curvature +1 / R.
-    fitted[i] = fit_at(mesh, v, rings, n, options, [&](Vertex w) { return -dot(mesh.position(w) - p0, n); }, g,
-                       out[i]) != FitKind::None;
-  }
-  const int missing = fill_unfitted(mesh, out, fitted, SymTensor3());
-  if (unfitted) *unfitted = missing;
-  return out;
+  return second_fundamental_form(mesh, fitted_normals(mesh, options), options, unfitted);
 }
 
 HessianMetricOptions cycle_metric_defaults() {
@@ -440,8 +557,8 @@ MetricField curvature_metric(const SurfaceMesh& mesh, double hausd, const Metric
   if (!(hausd > 0)) throw MetricError("curvature metric: hausd must be > 0");
   MetricBounds bounds = bounds_in;
   bounds.hmax = default_hmax(mesh, bounds.hmax);
-  const std::vector<SymTensor3> II = recover_curvature(mesh, options);
   const std::vector<Vec3> normal = fitted_normals(mesh, options);
+  const std::vector<SymTensor3> II = second_fundamental_form(mesh, normal, options, nullptr);
   const double floor = 8.0 * hausd / (bounds.hmax * bounds.hmax);  // |kappa| giving hmax
   MetricField M(mesh.vertex_capacity(), SymTensor3::identity());
   for (Vertex v : mesh.vertices())

@@ -10,10 +10,13 @@ namespace {
 
 using Mat3 = std::array<std::array<double, 3>, 3>;
 
+// Where entry (i, j) of a symmetric 3 x 3 matrix is in SymTensor3::m.
+constexpr int kSlot[3][3] = {{0, 1, 3}, {1, 2, 4}, {3, 4, 5}};
+
 Mat3 to_mat(const SymTensor3& M) {
   Mat3 a;
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) a[i][j] = M(i, j);
+    for (int j = 0; j < 3; ++j) a[i][j] = M.m[kSlot[i][j]];
   return a;
 }
 
@@ -57,8 +60,7 @@ SymTensor3 sandwich(const Mat3& X, const SymTensor3& A) {
   SymTensor3 out;
   for (int i = 0; i < 3; ++i)
     for (int j = i; j < 3; ++j) {
-      const double v = XA[i][0] * X[j][0] + XA[i][1] * X[j][1] + XA[i][2] * X[j][2];
-      out(i, j) = v;
+      out.m[kSlot[i][j]] = XA[i][0] * X[j][0] + XA[i][1] * X[j][1] + XA[i][2] * X[j][2];
     }
   return out;
 }
@@ -74,6 +76,81 @@ SymTensor3 spectral(const SymTensor3& M, F f) {
   SymEigen3 e = eigen_decompose(M);
   for (double& v : e.values) v = f(v);
   return compose(e.values, e.vectors);
+}
+
+// Among the cross products of two rows of A - lambda I, the longest: a
+// vector of the null space when lambda is a simple eigenvalue of A.
+Vec3 null_vector(const SymTensor3& A, double lambda) {
+  const auto& a = A.m;
+  const Vec3 r0(a[0] - lambda, a[1], a[3]), r1(a[1], a[2] - lambda, a[4]), r2(a[3], a[4], a[5] - lambda);
+  Vec3 best = cross(r0, r1);
+  for (const Vec3& c : {cross(r0, r2), cross(r1, r2)})
+    if (norm2(c) > norm2(best)) best = c;
+  return best;
+}
+
+// A unit vector orthogonal to the unit vector v.
+Vec3 orthogonal_unit(const Vec3& v) {
+  const Vec3 axis = std::fabs(v.x) <= std::fabs(v.y) && std::fabs(v.x) <= std::fabs(v.z) ? Vec3(1, 0, 0)
+                    : std::fabs(v.y) <= std::fabs(v.z)                                   ? Vec3(0, 1, 0)
+                                                                                         : Vec3(0, 0, 1);
+  return normalized(axis - dot(axis, v) * v);
+}
+
+// Eigen-decomposition of a symmetric 3 x 3 matrix without iterations: the
+// eigenvalues from the trigonometric solution of the characteristic cubic,
+// the vector of the one farthest from the other two from a cross product of
+// rows of M - lambda I, the other two by the Jacobi rotation of the 2 x 2
+// restriction to the plane orthogonal to it; the values are the Rayleigh
+// quotients of the vectors. Accurate to round-off relative to the largest
+// |eigenvalue| (eigen_decompose, Jacobi, also keeps the small eigenvalues of
+// SPD tensors accurate). Diagonal and non-finite matrices, and three equal
+// eigenvalues, go to eigen_decompose.
+SymEigen3 direct_eigen_decompose(const SymTensor3& M) {
+  double scale = 0;
+  for (double x : M.m) scale = std::fmax(scale, std::fabs(x));
+  const auto& m = M.m;
+  if (!(scale > 0) || !std::isfinite(scale) || m[1] * m[1] + m[3] * m[3] + m[4] * m[4] == 0) return eigen_decompose(M);
+  const SymTensor3 A = M * (1.0 / scale);
+  const auto& a = A.m;
+  const double q = (a[0] + a[2] + a[5]) / 3.0;
+  const SymTensor3 shifted(a[0] - q, a[1], a[2] - q, a[3], a[4], a[5] - q);
+  const auto& b = shifted.m;
+  const double p =
+      std::sqrt((b[0] * b[0] + b[2] * b[2] + b[5] * b[5] + 2.0 * (b[1] * b[1] + b[3] * b[3] + b[4] * b[4])) / 6.0);
+  const double phi = std::acos(std::clamp(0.5 * det(shifted) / (p * p * p), -1.0, 1.0)) / 3.0;
+  const double cos_phi = std::cos(phi), sin_phi = std::sin(phi);
+  const double largest = q + 2.0 * p * cos_phi;
+  const double smallest = q - p * (cos_phi + std::sqrt(3.0) * sin_phi);  // q + 2 p cos(phi + 2 pi / 3)
+  const double middle = 3.0 * q - largest - smallest;
+  const double isolated = largest - middle >= middle - smallest ? largest : smallest;
+  const Vec3 n = null_vector(A, isolated);
+  if (!(norm2(n) > 0)) return eigen_decompose(M);
+  SymEigen3 out;
+  out.vectors[0] = normalized(n);
+  const Vec3 u = orthogonal_unit(out.vectors[0]), w = cross(out.vectors[0], u);
+  // The 2 x 2 restriction [[uAu, uAw], [uAw, wAw]], diagonalised by the
+  // plane rotation (c, -s), (s, c) of a Jacobi step.
+  const Vec3 Au = A * u;
+  const double uw = dot(w, Au);
+  double c = 1, s = 0;
+  if (uw != 0) {
+    const double tau = (quad(A, w) - dot(u, Au)) / (2.0 * uw);
+    const double t = std::fabs(tau) > 1e150 ? 0.5 / tau
+                                             : (tau >= 0 ? 1.0 : -1.0) / (std::fabs(tau) + std::sqrt(1.0 + tau * tau));
+    c = 1.0 / std::sqrt(1.0 + t * t);
+    s = t * c;
+  }
+  out.vectors[1] = c * u - s * w;
+  out.vectors[2] = s * u + c * w;
+  for (int i = 0; i < 3; ++i) out.values[i] = quad(A, out.vectors[i]);
+  for (int i = 1; i < 3; ++i)
+    for (int k = i; k > 0 && out.values[k] < out.values[k - 1]; --k) {
+      std::swap(out.values[k], out.values[k - 1]);
+      std::swap(out.vectors[k], out.vectors[k - 1]);
+    }
+  for (double& v : out.values) v *= scale;
+  return out;
 }
 
 }  // namespace
@@ -152,8 +229,10 @@ SymEigen3 eigen_decompose(const SymTensor3& M) {
     }
     if (!rotated) break;
   }
+  // Ascending eigenvalues, equal ones in their original order.
   std::array<int, 3> order = {0, 1, 2};
-  std::sort(order.begin(), order.end(), [&](int i, int j) { return a[i][i] < a[j][j]; });
+  for (int i = 1; i < 3; ++i)
+    for (int k = i; k > 0 && a[order[k]][order[k]] < a[order[k - 1]][order[k - 1]]; --k) std::swap(order[k], order[k - 1]);
   for (int i = 0; i < 3; ++i) {
     const int k = order[i];
     out.values[i] = a[k][k] * scale;
@@ -280,12 +359,20 @@ std::array<double, 3> generalized_eigenvalues(const SymTensor3& A, const SymTens
   return eigen_decompose(sandwich(lower_inverse(L), A)).values;
 }
 
+double largest_generalized_eigenvalue(const SymTensor3& A, const SymTensor3& B) {
+  Mat3 L;
+  if (!cholesky(B, L)) return std::numeric_limits<double>::quiet_NaN();
+  return largest_eigenvalue(sandwich(lower_inverse(L), A));
+}
+
+double largest_eigenvalue(const SymTensor3& M) { return direct_eigen_decompose(M).values[2]; }
+
 SymTensor3 intersect(const SymTensor3& M1, const SymTensor3& M2) {
   Mat3 L;
   if (!cholesky(M1, L)) return M2;
   // C = L^-1 M2 L^-T = Q D Q^T; result = L Q max(I, D) Q^T L^T
   //                                    = M1 + sum_{d_i > 1} (d_i - 1) (L q_i)(L q_i)^T.
-  const SymEigen3 e = eigen_decompose(sandwich(lower_inverse(L), M2));
+  const SymEigen3 e = direct_eigen_decompose(sandwich(lower_inverse(L), M2));
   SymTensor3 out = M1;
   for (int i = 0; i < 3; ++i)
     if (e.values[i] > 1.0) out += (e.values[i] - 1.0) * SymTensor3::outer(mat_vec(L, e.vectors[i]));

@@ -199,6 +199,12 @@ SymTensor3 tensor_power(const SymTensor3& M, double p);
 // Pre: B SPD, A symmetric. The Rayleigh quotient u^T A u / u^T B u lies in
 // [values[0], values[2]].
 std::array<double, 3> generalized_eigenvalues(const SymTensor3& A, const SymTensor3& B);
+// The largest of them (no iteration, see largest_eigenvalue); NaN unless B is SPD.
+double largest_generalized_eigenvalue(const SymTensor3& A, const SymTensor3& B);
+// The largest eigenvalue of M without iterations (the cubic's trigonometric
+// solution, refined as a Rayleigh quotient): accurate to round-off relative
+// to the largest |eigenvalue|, repeated eigenvalues included.
+double largest_eigenvalue(const SymTensor3& M);
 
 // Intersection by simultaneous reduction: in the basis where M1 = I and M2 =
 // diag(d_i), the result is diag(max(1, d_i)): the largest ellipsoid (in that
