@@ -111,7 +111,7 @@ TEST_CASE("surface distance: beside the plane, the closest point is on its bound
   CHECK(d.centroids.max == doctest::Approx(std::hypot(0.3 - 1.0 / 24, 0.01)).epsilon(1e-12));
 }
 
-TEST_CASE("surface distance: a sphere mesh scaled by 1.05 is 0.05 away at its vertices; every sample is the brute force") {
+TEST_CASE("surface distance: a sphere mesh scaled by 1.05 is 0.05 away at its vertices, every sample is the brute force") {
   const MeshData sphere = test::icosphere(3);
   const SurfaceMesh ref = test::build(sphere);
   const SurfaceMesh mesh = moved(sphere, 1.05, Vec3());
@@ -169,7 +169,7 @@ TEST_CASE("surface distance: a coarse noisy sphere against a fine one: every sam
   CHECK(dv.centroids.count == 0);
 }
 
-TEST_CASE("surface distance: deleted slots are NaN and left out; an empty reference is an error") {
+TEST_CASE("surface distance: deleted slots are NaN and left out, an empty reference is an error") {
   SurfaceMesh mesh = moved(test::square_grid(4), 1.0, Vec3(0, 0, 0.5));
   const SurfaceMesh ref = test::build(test::square_grid(2));
   // The corner (1, 0) lies in one triangle: delete both.

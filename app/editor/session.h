@@ -1,7 +1,8 @@
 // The editor's data (no OpenGL, no ImGui): the input mesh T_0 with its
 // features, the metric settings and the metric field they give, painted
 // edits with undo / redo, the adaptation (adaptation.h) with its timeline of
-// snapshots, the analysis of the displayed state and the selection. Panels
+// snapshots, the analysis of the displayed state, its distance to the input
+// surface T_G (measured in the background) and the selection. Panels
 // and scripts change the session only through these calls; each call that
 // changes the session appends the equivalent script line to journal() (the
 // autosave replays it).
