@@ -600,7 +600,10 @@ void EditorSession::start_distance(std::shared_ptr<const Snapshot> state) {
     const auto t0 = std::chrono::steady_clock::now();
     try {
       if (!distance_locator_) distance_locator_ = std::make_unique<Locator>(distance_locator(*reference));
-      m.distance = std::make_shared<const SurfaceDistance>(surface_distance(state->mesh, *distance_locator_));
+      // One thread: the adaptation's worker and the drawing keep the others.
+      SurfaceDistanceOptions o;
+      o.threads = 1;
+      m.distance = std::make_shared<const SurfaceDistance>(surface_distance(state->mesh, *distance_locator_, o));
     } catch (const std::exception& e) {
       m.error = e.what();
     }
