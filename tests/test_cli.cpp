@@ -110,3 +110,70 @@ TEST_CASE("bad input: clear message, non-zero exit, no output left behind") {
   Run usage = run_anisurf("convert onlyone.mesh", "usage");
   CHECK(usage.code == 2);
 }
+
+TEST_CASE("anisurf distance: a grid 0.25 above a plane of two triangles, read from OFF, OBJ and STL") {
+  auto dir = anisurf::test::temp_dir("cli_distance_files");
+  // Reference: the unit square as two triangles (OFF); mesh: a 4 x 4 grid of
+  // [0.25, 0.75]^2 at z = 0.25 (OBJ), far from the reference's vertices.
+  const std::string ref = (dir / "plane.off").string(), out = (dir / "grid.obj").string();
+  std::ofstream(ref) << "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
+  {
+    std::ofstream obj(out);
+    for (int j = 0; j <= 4; ++j)
+      for (int i = 0; i <= 4; ++i) obj << "v " << 0.25 + 0.125 * i << " " << 0.25 + 0.125 * j << " 0.25\n";
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) {
+        const int a = j * 5 + i + 1, b = a + 1, c = a + 6, d = a + 5;
+        obj << "f " << a << " " << b << " " << c << "\nf " << a << " " << c << " " << d << "\n";
+      }
+  }
+  Run r = run_anisurf("distance " + ref + " " + out, "distance_text");
+  INFO(r.out << r.err);
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find("V 25  T 32") != std::string::npos);
+  // 0.25 / sqrt(2) = 17.6777% of the diagonal, at every kind of sample.
+  CHECK(r.out.find("vertices   (     25)   0.25         ( 17.6777%)   0.25         ( 17.6777%)") != std::string::npos);
+  CHECK(r.out.find("midpoints  (     56)   0.25") != std::string::npos);
+  CHECK(r.out.find("centroids  (     32)   0.25") != std::string::npos);
+  CHECK(r.out.find("worst       0.25 (17.6777% of the diagonal) at the vertex of vertex 1") != std::string::npos);
+
+  Run j = run_anisurf("distance " + ref + " " + out + " --json --threads 2", "distance_json");
+  INFO(j.out << j.err);
+  REQUIRE(j.code == 0);
+  for (const char* key : {"\"V\": 25", "\"T\": 32", "\"vert_max\": 0.25", "\"mid_max\": 0.25", "\"cen_mean\": 0.25",
+                          "\"sample\": \"vertex\"", "\"element\": \"vertex 1\"", "\"reference_diagonal\": 1.414"})
+    CHECK_MESSAGE(j.out.find(key) != std::string::npos, key);
+
+  // The same reference as STL (split vertices, merged on reading).
+  const std::string stl = (dir / "plane.stl").string();
+  std::ofstream(stl) << "solid p\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\nendloop\nendfacet\n"
+                        "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid p\n";
+  Run s = run_anisurf("distance " + stl + " " + out + " --json", "distance_stl");
+  INFO(s.out << s.err);
+  REQUIRE(s.code == 0);
+  CHECK(s.out.find("\"cen_max\": 0.25") != std::string::npos);
+}
+
+TEST_CASE("anisurf distance: help, bad usage and unreadable files") {
+  Run h = run_anisurf("distance --help", "distance_help");
+  CHECK(h.code == 0);
+  CHECK(h.out.find("usage: anisurf distance REF OUT") != std::string::npos);
+  CHECK(h.out.find("example:") != std::string::npos);
+  CHECK(run_anisurf("--help", "distance_overview").out.find("distance") != std::string::npos);
+  Run one = run_anisurf("distance " + demo_mesh(), "distance_one");
+  CHECK(one.code == 2);
+  CHECK(one.err.find("expected REF and OUT") != std::string::npos);
+  Run threads = run_anisurf("distance " + demo_mesh() + " " + demo_mesh() + " --threads 1.5", "distance_threads");
+  CHECK(threads.code == 2);
+  CHECK(threads.err.find("--threads expects a whole number") != std::string::npos);
+  Run missing = run_anisurf("distance " + demo_mesh() + " /nonexistent/out.mesh", "distance_missing");
+  CHECK(missing.code == 1);
+  CHECK(missing.err.find("anisurf distance: error: ") != std::string::npos);
+  CHECK(missing.err.find("/nonexistent/out.mesh") != std::string::npos);
+  // A mesh against itself: 0 everywhere.
+  Run self = run_anisurf("distance " + demo_mesh() + " " + demo_mesh() + " --json", "distance_self");
+  REQUIRE(self.code == 0);
+  const auto at = self.out.find("\"max\": ");
+  REQUIRE(at != std::string::npos);
+  CHECK(std::stod(self.out.substr(at + 7)) < 1e-12);
+}

@@ -7,20 +7,25 @@
 #ifdef ANISURF_WITH_GL
 #include <doctest/doctest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "core/error.h"
 #include "editor/analysis.h"
+#include "editor/editor_view.h"
 #include "editor/script.h"
 #include "editor/session.h"
 #include "io/mesh_io.h"
+#include "locate/surface_distance.h"
 #include "remesh/adapt.h"
 #include "render/bezier_structure.h"
 #include "render/image.h"
+#include "render/mesh_structure.h"
 #include "test_util.h"
 
 using namespace anisurf;
@@ -537,6 +542,119 @@ TEST_CASE("editor: cycles re-derive the metric on the adapted mesh, as anisurf a
   CHECK(s.input().n_vertices() == adapted);
   CHECK(s.input().validate().ok());
   CHECK(s.timeline().size() == 1);  // the new T_0 alone
+}
+
+TEST_CASE("editor: the distance colours: T_1's distance to T_G per vertex, after each pass shown, in the legend and the panel") {
+  EditorSession s;
+  s.open(demo_mesh(), demo_sol());
+  ViewState v;
+  v.color = "distance";
+  EditorView ev;
+  render::Scene scene;
+  // The view shows a state with its distance once measured (in the session's thread).
+  auto update = [&] {
+    ev.update(s, v, scene, 1.6f, 0, 0);
+    for (int i = 0; i < 2000 && !ev.settled(s, v); ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      ev.update(s, v, scene, 1.6f, 0, 0);
+    }
+    CHECK(ev.settled(s, v));
+  };
+  auto shown_distance = [&]() -> const render::ScalarQuantity* {
+    for (const auto& st : scene.surfaces)
+      if (st.name == "mesh") return st.active_scalar();
+    return nullptr;
+  };
+  // T_0 is the input itself: 0 everywhere.
+  update();
+  const render::ScalarQuantity* q = shown_distance();
+  REQUIRE(q);
+  CHECK(q->name == render::quantity::kDistance);
+  REQUIRE(s.distance());
+  CHECK(s.distance()->max() < 1e-12);
+  for (float x : q->values) CHECK(x < 1e-6f);
+  CHECK(q->range_max > 0.0f);  // a usable legend all the same
+  // After a run: the mesh shown is T_1, coloured by its own distances.
+  s.run();
+  s.wait();
+  update();
+  q = shown_distance();
+  REQUIRE(q);
+  const SurfaceMesh& t1 = s.display().snapshot->mesh;
+  const SurfaceDistance expect = surface_distance(t1, s.geometry_input());
+  const auto d = s.distance();
+  REQUIRE(d);
+  CHECK(d == s.distance());  // kept for the state shown, not measured again
+  bool current = false;
+  CHECK(s.last_distance(&current) == d);
+  CHECK(current);
+  CHECK(d->vertices.count == t1.n_vertices());
+  CHECK(d->max() == doctest::Approx(expect.max()).epsilon(1e-12));
+  CHECK(d->centroids.mean == doctest::Approx(expect.centroids.mean).epsilon(1e-12));
+  CHECK(d->max() > 0);
+  REQUIRE(q->values.size() == static_cast<std::size_t>(t1.n_vertices()));
+  float qmax = 0;
+  for (float x : q->values) qmax = std::max(qmax, x);
+  CHECK(qmax == doctest::Approx(d->vertices.max).epsilon(1e-6));
+  // The colours end at the 98th percentile of the vertex distances.
+  std::vector<float> sorted = q->values;
+  std::sort(sorted.begin(), sorted.end());
+  CHECK(q->range_max == sorted[static_cast<std::size_t>(0.98 * static_cast<double>(sorted.size() - 1))]);
+  CHECK(q->range_max <= qmax);
+  CHECK(q->percent_of == doctest::Approx(s.input().bbox().diagonal()).epsilon(1e-6));
+  CHECK(q->note.find("T_1 to the input T_G at the vertices") != std::string::npos);
+  CHECK(q->note.find("max ") != std::string::npos);
+  MESSAGE("demo adapted: distance to the input " << d->max() << " (" << d->percent(d->max()) << "% of the diagonal) at a "
+                                                 << std::string(distance_sample_name(d->worst_sample())) << ", measured in "
+                                                 << s.last_distance_seconds() << " s");
+  // Scrubbing back to a pass: measured for that pass.
+  s.scrub(1);
+  update();
+  CHECK(s.last_distance(&current) != d);
+  CHECK(current);
+  // Another colour: no new measure when the state changes.
+  v.color = "size";
+  s.scrub(2);
+  update();
+  s.last_distance(&current);
+  CHECK(!current);
+}
+
+TEST_CASE("editor: color distance in a script, headless: the legend and the colours of T_1") {
+  const auto dir = test::temp_dir("editor_distance_script");
+  {
+    std::ofstream f(dir / "distance.anisurf");
+    f << "open " << demo_mesh() << " " << demo_sol() << "\nwire off\nrun\nscreenshot " << (dir / "size.png").string()
+      << "\ncolor distance\nscreenshot " << (dir / "distance.png").string() << "\n";
+  }
+  const int code = run_binary("env -u DISPLAY", "--script " + (dir / "distance.anisurf").string() + " --headless --size 1280x800", dir);
+  INFO(slurp(dir / "stderr.txt"));
+  REQUIRE(code == 0);
+  const render::Image size = render::read_png((dir / "size.png").string()),
+                      dist = render::read_png((dir / "distance.png").string());
+  CHECK(diff(size, dist, 400).count > 5000);
+  // Viridis from dark purple (near the input) to yellow (the farthest):
+  // both ends appear on the mesh.
+  int purple = 0, yellow = 0;
+  for (int y = 0; y < dist.height; ++y)
+    for (int x = 400; x < dist.width; ++x) {
+      const auto* p = dist.pixel(x, y);
+      purple += p[2] > p[1] + 40 && p[0] > p[1] + 20;
+      yellow += p[0] > 150 && p[1] > 130 && p[2] < 90;
+    }
+  MESSAGE("distance colours: " << purple << " purple pixels, " << yellow << " yellow ones");
+  CHECK(purple > 500);
+  CHECK(yellow > 20);
+  // The G1 surface hides the mesh the distance colours: refused with a hint.
+  {
+    std::ofstream f(dir / "bad.anisurf");
+    f << "open " << demo_mesh() << "\nbezier 4\ncolor distance\n";
+  }
+  CHECK(run_binary("env -u DISPLAY", "--script " + (dir / "bad.anisurf").string() + " --headless", dir) == 1);
+  CHECK(slurp(dir / "stderr.txt").find("bad.anisurf:3: color distance: the distance colours the mesh; hide the G1 surface first (bezier off)") !=
+        std::string::npos);
+  CHECK(run_binary("", "--help-script", dir) == 0);
+  CHECK(slurp(dir / "stdout.txt").find("color size|aniso|length|quality|ref|deviation|distance|none") != std::string::npos);
 }
 
 #endif

@@ -14,6 +14,7 @@ Command quality_command();
 Command metric_command();
 Command reconstruct_command();
 Command adapt_command();
+Command distance_command();
 
 std::vector<Command> engine_commands() {
   std::vector<Command> list;
@@ -23,6 +24,7 @@ std::vector<Command> engine_commands() {
   list.push_back(quality_command());
   list.push_back(reconstruct_command());
   list.push_back(adapt_command());
+  list.push_back(distance_command());
   return list;
 }
 

@@ -42,6 +42,7 @@ int run_script_headless(const ScriptOptions& o) {
   host.screenshot = [&](const std::string& png) {
     const auto t0 = std::chrono::steady_clock::now();
     session.wait();
+    if (view.color == "distance") session.distance();  // the colours of the state shown, measured
     if (!renderer) renderer = std::make_unique<render::HeadlessRenderer>(W, H);
     const bool fit = view.fit_request || view.frame_selection || view.view_request.has_value();
     ViewState before = view;

@@ -1,7 +1,10 @@
 #include "editor/editor_view.h"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 
 #include "geometry/normals.h"
 #include "render/bezier_structure.h"
@@ -21,14 +24,84 @@ std::string quantity_of(const std::string& color) {
   if (color == "quality") return q::kQuality;
   if (color == "ref") return q::kReference;
   if (color == "deviation") return q::kDeviation;
+  if (color == "distance") return q::kDistance;
   return "";
 }
 
 glm::vec3 to_glm(const Vec3& p) { return {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)}; }
 
+// The legend's lines under the distance colours: what is coloured, and the
+// largest distance over every kind of sample (the colours show the vertices).
+std::string distance_note(const SurfaceDistance& d) {
+  const DistanceSample w = d.worst_sample();
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "T_1 to the input T_G at the vertices\nmax %.3g (%.3g%%) at %s %s", d.max(),
+                d.percent(d.max()), w == DistanceSample::Midpoint ? "an" : "a", distance_sample_name(w));
+  return buf;
+}
+
+// The top of the distance colours: the 98th percentile of the vertex
+// distances, so that a few far vertices do not leave the rest dark (the
+// farthest ones saturate; the note gives the maximum); the largest distance
+// when that percentile is 0, a thousandth of the diagonal when all are 0.
+float distance_range_top(const render::ScalarQuantity& q, const SurfaceDistance& d) {
+  std::vector<float> v;
+  v.reserve(q.values.size());
+  for (float x : q.values)
+    if (std::isfinite(x)) v.push_back(x);
+  float top = 0.0f;
+  if (!v.empty()) {
+    const auto k = static_cast<std::size_t>(0.98 * static_cast<double>(v.size() - 1));
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+    top = v[k];
+  }
+  if (!(top > 0.0f)) top = static_cast<float>(d.vertices.max);
+  if (!(top > 0.0f)) top = static_cast<float>(1e-3 * d.reference_diagonal);
+  return top > 0.0f ? top : 1.0f;
+}
+
 }  // namespace
 
-void EditorView::rebuild_mesh(const ViewState& view, const EditorSession& session) {
+bool EditorView::has_distance() const {
+  for (const auto& q : mesh_.structure.scalars)
+    if (q.name == render::quantity::kDistance) return true;
+  return false;
+}
+
+void EditorView::add_distance(const SurfaceDistance& d) {
+  render::ScalarQuantity q = render::vertex_quantity(mesh_, render::quantity::kDistance, d.vertex);
+  q.colormap = render::Colormap::Viridis;
+  q.range_min = 0.0f;
+  q.range_max = distance_range_top(q, d);
+  q.percent_of = static_cast<float>(d.reference_diagonal);
+  q.note = distance_note(d);
+  mesh_.structure.scalars.push_back(std::move(q));
+  mesh_.structure.version = ++counter_;
+}
+
+EditorView::NextState EditorView::next_to_show(EditorSession& session, const ViewState& view,
+                                               const std::shared_ptr<const Snapshot>& displayed) {
+  if (view.color != "distance") return {displayed, nullptr};
+  session.request_distance(displayed);
+  if (auto d = session.ready_distance(displayed)) return {displayed, d};
+  // Not measured yet: a new mesh (or a failed measure) is shown at once, without
+  // colours; otherwise the shown state stays, or during a run the latest pass
+  // measured is shown, so that the colours always belong to the mesh drawn.
+  if (!shown_ || shown_opened_ != session.opened() || !session.distance_error().empty()) return {displayed, nullptr};
+  const auto measured = session.last_measured();
+  if (session.running() && measured && measured != shown_)
+    for (const auto& s : session.timeline())
+      if (s == measured) return {measured, session.ready_distance(measured)};
+  return {shown_, nullptr};
+}
+
+bool EditorView::settled(const EditorSession& session, const ViewState& view) const {
+  const auto displayed = session.display().snapshot;
+  if (view.color != "distance" || !displayed || !session.distance_error().empty()) return true;
+  return shown_ == displayed && has_distance();
+}
+
+void EditorView::rebuild_mesh(const ViewState& view, const EditorSession& session, const SurfaceDistance* distance) {
   const auto t0 = std::chrono::steady_clock::now();
   SurfaceMesh m = shown_->mesh;
   set_metric_field(m, shown_->metric, "metric");
@@ -62,6 +135,7 @@ void EditorView::rebuild_mesh(const ViewState& view, const EditorSession& sessio
       }
     mesh_.structure.markers.push_back(std::move(mk));
   }
+  if (distance) add_distance(*distance);
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -99,11 +173,25 @@ void EditorView::update(EditorSession& session, ViewState& view, render::Scene& 
     if (!view.view_request)
       view.view_request = session.input().dimension() == 2 ? render::NamedView::Front : render::NamedView::Iso;
   }
+  // With the distance colours, a state is shown once its distance to T_G is
+  // measured (in the session's measuring thread; see next_to_show()).
   if (d.snapshot != shown_ && !throttled) {
-    last_rebuild_ = now;
-    shown_ = d.snapshot;
-    rebuild_mesh(view, session);
-    structures_changed = true;
+    const NextState next = next_to_show(session, view, d.snapshot);
+    if (next.snapshot != shown_) {
+      last_rebuild_ = now;
+      shown_ = next.snapshot;
+      shown_opened_ = session.opened();
+      rebuild_mesh(view, session, next.distance.get());
+      structures_changed = true;
+    }
+  }
+  // The distance colours chosen while a state is shown: added once measured.
+  if (view.color == "distance" && shown_ && !has_distance()) {
+    session.request_distance(shown_);
+    if (const auto dist = session.ready_distance(shown_)) {
+      add_distance(*dist);
+      structures_changed = true;
+    }
   }
   if (session.selection().version != selection_version_ || structures_changed) {
     selection_version_ = session.selection().version;

@@ -30,10 +30,24 @@ class EditorView {
   // The displayed mesh element under pixel (x, y) of a width x height view.
   std::optional<HoverInfo> hover(const render::Scene& scene, float x, float y, int width, int height) const;
   const Snapshot* shown() const { return shown_.get(); }
+  // False while the view waits for a measure to show the displayed state (the
+  // distance colours: the state is shown with its distance, once measured).
+  // Screenshots wait for it.
+  bool settled(const EditorSession& session, const ViewState& view) const;
   double last_build_seconds() const { return build_seconds_; }
 
  private:
-  void rebuild_mesh(const ViewState& view, const EditorSession& session);
+  // `distance`: the shown state's distance to T_G (null: not measured).
+  void rebuild_mesh(const ViewState& view, const EditorSession& session, const SurfaceDistance* distance);
+  // The "distance to input" quantity of the shown mesh.
+  void add_distance(const SurfaceDistance& d);
+  bool has_distance() const;
+  // The state to show next and its distance (see update()).
+  struct NextState {
+    std::shared_ptr<const Snapshot> snapshot;
+    std::shared_ptr<const SurfaceDistance> distance;
+  };
+  NextState next_to_show(EditorSession& session, const ViewState& view, const std::shared_ptr<const Snapshot>& displayed);
   void rebuild_bezier(const ViewState& view);
 
   std::shared_ptr<const Snapshot> shown_;
@@ -46,6 +60,7 @@ class EditorView {
   std::string color_;
   double build_seconds_ = 0;
   int opened_seen_ = 0;         // session.opened() last seen (a new mesh resets the view)
+  int shown_opened_ = -1;       // session.opened() when shown_ was taken
   int kept_for_ = -1;           // session.opened() the ranges belong to
   bool kept_initial_ = false;   // the last structure showed the initial state
   MetricSettings kept_settings_;  // and was made with these settings

@@ -321,7 +321,8 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
 
   for (int frame = 0; !glfwWindowShouldClose(window) && !quit; ++frame) {
     const auto frame_start = Clock::now();
-    const bool busy = a.session.running() || next_line < script.size() || !pending_shot.empty();
+    const bool busy = a.session.running() || a.session.measuring() || !a.ev.settled(a.session, a.view) ||
+                      next_line < script.size() || !pending_shot.empty();
     if (!busy && frame_start - a.last_event > std::chrono::seconds(1))
       glfwWaitEventsTimeout(0.25);
     else
@@ -373,7 +374,8 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     draw_panels(a.session, a.view, a.panels, a.scene, a.ui, fbw, fbh);
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-    if (!pending_shot.empty() && --shots_waiting_frames <= 0) {
+    // A screenshot waits for the distance colours of the state shown.
+    if (!pending_shot.empty() && a.ev.settled(a.session, a.view) && --shots_waiting_frames <= 0) {
       render::Image img(fbw, fbh);
       gl::glPixelStorei(GL_PACK_ALIGNMENT, 1);
       gl::glReadPixels(0, 0, fbw, fbh, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());

@@ -372,6 +372,37 @@ int histogram(const char* id, const std::vector<int>& counts, BinKind kind, int 
   return clicked ? hover_bin : -1;
 }
 
+// The distance of the displayed mesh to the input surface T_G: measured by
+// the "distance" colours, or here on demand.
+void distance_section(EditorSession& s, ViewState& v, PanelState& p) {
+  ImGui::TextUnformatted("distance to the input T_G");
+  const auto displayed = s.display().snapshot;
+  if (const auto d = s.ready_distance(displayed)) {
+    ImGui::TextDisabled("max %.4g = %.3g%% of the diagonal", d->max(), d->percent(d->max()));
+    const DistanceSample w = d->worst_sample();
+    ImGui::TextDisabled("at %s %s; measured in %.2f s", w == DistanceSample::Midpoint ? "an" : "a",
+                        distance_sample_name(w), s.last_distance_seconds());
+    const std::pair<const char*, const DistanceStats*> rows[] = {
+        {"vertex", &d->vertices}, {"midpoint", &d->midpoints}, {"centroid", &d->centroids}};
+    for (const auto& [name, st] : rows)
+      if (st->count > 0) ImGui::TextDisabled("%-9s max %-9.3g mean %.3g", name, st->max, st->mean);
+    return;
+  }
+  if (s.measuring()) {
+    ImGui::TextDisabled("measuring ...");
+  } else {
+    if (ImGui::SmallButton("measure")) act(p, "measuring the distance to the input", [&] { s.request_distance(displayed); });
+    ImGui::SameLine();
+    if (ImGui::SmallButton("colour by it")) {
+      v.color = "distance";
+      v.bezier = 0;
+    }
+  }
+  if (!s.distance_error().empty()) ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1), "%s", s.distance_error().c_str());
+  if (const auto last = s.last_distance())
+    ImGui::TextDisabled("(an earlier state: max %.3g, %.3g%%)", last->max(), last->percent(last->max()));
+}
+
 void analysis_panel(EditorSession& s, ViewState& v, PanelState& p) {
   if (!s.has_mesh()) return;
   const Analysis& a = s.analysis();
@@ -389,6 +420,7 @@ void analysis_panel(EditorSession& s, ViewState& v, PanelState& p) {
   clicked = histogram("##quality", qc, BinKind::Quality, sel.active && sel.kind == BinKind::Quality ? sel.bin : -1,
                       IM_COL32(60, 160, 90, 255));
   if (clicked >= 0) act(p, "selected", [&] { s.select_bin(BinKind::Quality, clicked); v.frame_selection = true; });
+  distance_section(s, v, p);
   if (sel.active) {
     ImGui::Text("selected: %s %s", bin_kind_name(sel.kind), bin_label(sel.kind, sel.bin).c_str());
     ImGui::TextDisabled("%zu triangles, worst %.3f", sel.triangles.size(), sel.worst_value);
@@ -401,7 +433,10 @@ void analysis_panel(EditorSession& s, ViewState& v, PanelState& p) {
 void bezier_panel(ViewState& v) {
   if (!ImGui::CollapsingHeader("G1 surface")) return;
   bool show = v.bezier > 0;
-  if (ImGui::Checkbox("show the G1 Bezier surface", &show)) v.bezier = show ? 4 : 0;
+  if (ImGui::Checkbox("show the G1 Bezier surface", &show)) {
+    v.bezier = show ? 4 : 0;
+    if (show && v.color == "distance") v.color = "size";  // the G1 surface hides the mesh it colours
+  }
   if (show) {
     ImGui::SetNextItemWidth(160);
     ImGui::SliderInt("samples per edge", &v.bezier, 1, 12);
@@ -422,6 +457,7 @@ void display_panel(ViewState& v, render::Scene& scene) {
   ImGui::SetNextItemWidth(160);
   if (ImGui::Combo("colour", &current, kColorModes, n)) {
     if (std::string(kColorModes[current]) == "deviation" && v.bezier == 0) v.bezier = 4;
+    if (std::string(kColorModes[current]) == "distance") v.bezier = 0;  // it colours the mesh
     v.color = kColorModes[current];
   }
   ImGui::Checkbox("glyphs (G)", &v.glyphs);
@@ -485,6 +521,10 @@ void hover_tooltip(EditorSession& s, EditorView* view, PanelState& p) {
   ImGui::Text("vertex %d  tags: %s", V.idx + 1, tags(m.vertex_tags(V)).c_str());
   const Vec3& x = m.position(V);
   ImGui::Text("at (%.4g, %.4g, %.4g)", x.x, x.y, x.z);
+  bool current = false;
+  if (const auto dist = s.last_distance(&current); dist && current && V.idx < static_cast<int>(dist->vertex.size()))
+    ImGui::Text("distance to the input %.4g (%.3g%% of the diagonal)", dist->vertex[static_cast<std::size_t>(V.idx)],
+                dist->percent(dist->vertex[static_cast<std::size_t>(V.idx)]));
   for (int i = 0; i < 3; ++i)
     ImGui::Text("size %.4g along (%.3f, %.3f, %.3f)", sd.sizes[i], sd.directions[i].x, sd.directions[i].y,
                 sd.directions[i].z);

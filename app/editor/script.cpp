@@ -293,8 +293,11 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
     v.view_request = *nv;
   } else if (cmd == "color") {
     arity(l, 1, 1, "color MODE");
-    if (!is_color_mode(l.words[1])) throw LineError{"color: expects size|aniso|length|quality|ref|deviation|none, got '" + l.words[1] + "'"};
+    if (!is_color_mode(l.words[1]))
+      throw LineError{"color: expects size|aniso|length|quality|ref|deviation|distance|none, got '" + l.words[1] + "'"};
     if (l.words[1] == "deviation" && v.bezier == 0) throw LineError{"color deviation: show the G1 surface first (bezier K)"};
+    if (l.words[1] == "distance" && v.bezier > 0)
+      throw LineError{"color distance: the distance colours the mesh; hide the G1 surface first (bezier off)"};
     v.color = l.words[1];
   } else if (cmd == "glyphs") {
     v.glyphs = on_off(l, "glyphs on|off");
@@ -313,6 +316,7 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
       const double k = number(l, 1, "K");
       if (k < 1 || k > 16 || k != std::floor(k)) throw LineError{"bezier: K must be a whole number in [1, 16]"};
       v.bezier = static_cast<int>(k);
+      if (v.color == "distance") v.color = "size";  // the G1 surface hides the mesh it colours
     }
   } else if (cmd == "screenshot") {
     arity(l, 1, 1, "screenshot PNG");
@@ -373,7 +377,10 @@ const char* script_help() {
          "                                         quality / longest length bin), frame its worst\n"
          "  clear-selection\n"
          "  view iso|front|back|top|bottom|left|right\n"
-         "  color size|aniso|length|quality|ref|deviation|none\n"
+         "  color size|aniso|length|quality|ref|deviation|distance|none\n"
+         "                                         (deviation: the mesh to its G1 surface, with\n"
+         "                                         bezier K; distance: the mesh to the input\n"
+         "                                         surface T_G, measured after each pass shown)\n"
          "  glyphs on|off | wire on|off | touched on|off (vertices the shown pass touched)\n"
          "  bezier K|off | control-net on|off\n"
          "  screenshot PNG | save MESH [SOL] | quit\n";

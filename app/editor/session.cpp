@@ -1,6 +1,7 @@
 #include "editor/session.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -65,6 +66,7 @@ std::string source_line(const MetricSettings& s) {
 EditorSession::EditorSession() = default;
 
 EditorSession::~EditorSession() {
+  if (distance_job_.valid()) distance_job_.wait();  // it reads T_G
   retire_adaptation();
   wait_retired();
   if (geometry_.valid()) geometry_.wait();  // it reads input_
@@ -105,6 +107,7 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
   retire_adaptation();
   wait_retired();  // their workers read the old mesh
   if (geometry_.valid()) geometry_.wait();  // so does the old geometry's construction
+  forget_distance();  // its measure reads the old T_G
   std::swap(input_, mesh);
   geometry_mesh_.reset();
   cycle_ = 0;
@@ -574,6 +577,91 @@ DisplayState EditorSession::display() const {
   d.snapshot = tl[i];
   d.version = version_ * 1000003ull + adaptation_->version() * 7919ull + i;
   return d;
+}
+
+void EditorSession::forget_distance() {
+  if (distance_job_.valid()) distance_job_.wait();  // it reads T_G and the locator
+  distance_job_ = {};
+  distance_job_of_.reset();
+  distance_pending_.reset();
+  distance_locator_.reset();
+  distance_.reset();
+  distance_of_.reset();
+  distance_seconds_ = 0;
+  distance_error_.clear();
+}
+
+void EditorSession::start_distance(std::shared_ptr<const Snapshot> state) {
+  distance_job_of_ = state;
+  const SurfaceMesh* reference = &geometry_input();
+  // One measure at a time: the locator is only touched by the thread that runs.
+  distance_job_ = std::async(std::launch::async, [this, reference, state = std::move(state)] {
+    Measured m;
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      if (!distance_locator_) distance_locator_ = std::make_unique<Locator>(distance_locator(*reference));
+      // One thread: the adaptation's worker and the drawing keep the others.
+      SurfaceDistanceOptions o;
+      o.threads = 1;
+      m.distance = std::make_shared<const SurfaceDistance>(surface_distance(state->mesh, *distance_locator_, o));
+    } catch (const std::exception& e) {
+      m.error = e.what();
+    }
+    m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return m;
+  });
+}
+
+void EditorSession::poll_distance() {
+  if (distance_job_.valid() && distance_job_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+    Measured m = distance_job_.get();
+    distance_error_ = m.error;
+    if (m.distance) {
+      distance_ = std::move(m.distance);
+      distance_of_ = distance_job_of_;
+      distance_seconds_ = m.seconds;
+    }
+    distance_job_of_.reset();
+  }
+  if (!distance_job_.valid() && distance_pending_) {
+    std::shared_ptr<const Snapshot> next = std::move(distance_pending_);
+    distance_pending_.reset();
+    if (next != distance_of_) start_distance(std::move(next));
+  }
+}
+
+void EditorSession::request_distance(const std::shared_ptr<const Snapshot>& state) {
+  if (!state || !input_) return;
+  poll_distance();
+  if (state == distance_of_ || state == distance_job_of_) {
+    distance_pending_.reset();  // the latest request is served
+    return;
+  }
+  distance_pending_ = state;
+  poll_distance();
+}
+
+std::shared_ptr<const SurfaceDistance> EditorSession::ready_distance(const std::shared_ptr<const Snapshot>& state) {
+  poll_distance();
+  return state && state == distance_of_ ? distance_ : nullptr;
+}
+
+std::shared_ptr<const SurfaceDistance> EditorSession::distance() { return distance(display().snapshot); }
+
+std::shared_ptr<const SurfaceDistance> EditorSession::distance(const std::shared_ptr<const Snapshot>& state) {
+  if (!state || !input_) return nullptr;
+  request_distance(state);
+  while (state != distance_of_ && distance_job_.valid()) {
+    distance_job_.wait();
+    poll_distance();
+  }
+  if (state != distance_of_) throw Error("the distance to the input could not be measured: " + distance_error_);
+  return distance_;
+}
+
+std::shared_ptr<const SurfaceDistance> EditorSession::last_distance(bool* of_displayed) const {
+  if (of_displayed) *of_displayed = distance_ && distance_of_ == display().snapshot;
+  return distance_;
 }
 
 const Analysis& EditorSession::analysis() {

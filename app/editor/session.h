@@ -1,11 +1,13 @@
 // The editor's data (no OpenGL, no ImGui): the input mesh T_0 with its
 // features, the metric settings and the metric field they give, painted
 // edits with undo / redo, the adaptation (adaptation.h) with its timeline of
-// snapshots, the analysis of the displayed state and the selection. Panels
+// snapshots, the analysis of the displayed state, its distance to the input
+// surface T_G (measured in the background) and the selection. Panels
 // and scripts change the session only through these calls; each call that
 // changes the session appends the equivalent script line to journal() (the
 // autosave replays it).
 #pragma once
+#include <future>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -14,6 +16,7 @@
 
 #include "editor/adaptation.h"
 #include "editor/analysis.h"
+#include "locate/surface_distance.h"
 #include "mesh/surface_mesh.h"
 #include "metric/metric_field.h"
 #include "metric/recipe.h"
@@ -160,6 +163,36 @@ class EditorSession {
   void clear_selection();
   const Selection& selection() const { return selection_; }
 
+  // --- distance to the input ------------------------------------------------
+  // T_G: the surface every adaptation stays on (the opened mesh, also after
+  // cycles).
+  const SurfaceMesh& geometry_input() const { return geometry_mesh_ ? *geometry_mesh_ : *input_; }
+  // The distance from a state of the timeline to T_G (vertices, edge
+  // midpoints, centroids: locate/surface_distance.h) is measured in a thread
+  // of its own, one state at a time, so that the view stays responsive; the
+  // first measure after open() also builds the locator over T_G.
+  //
+  // Starts measuring `state` unless it is the last state measured or the one
+  // being measured; while another one is measured, it waits (only the latest
+  // request waits).
+  void request_distance(const std::shared_ptr<const Snapshot>& state);
+  // The distance of `state` once measured (null before, or if not asked for).
+  std::shared_ptr<const SurfaceDistance> ready_distance(const std::shared_ptr<const Snapshot>& state);
+  // request_distance() and wait: the distance of `state` / of the displayed
+  // state. Throws Error when the measure failed; null without a mesh.
+  std::shared_ptr<const SurfaceDistance> distance(const std::shared_ptr<const Snapshot>& state);
+  std::shared_ptr<const SurfaceDistance> distance();
+  // The last state measured and its distance (null if none since open());
+  // `of_displayed`: it is the displayed state. They do not wait.
+  std::shared_ptr<const Snapshot> last_measured() const { return distance_of_; }
+  std::shared_ptr<const SurfaceDistance> last_distance(bool* of_displayed = nullptr) const;
+  // A measure runs or waits.
+  bool measuring() const { return distance_job_.valid() || distance_pending_ != nullptr; }
+  // Seconds the last measure took (the locator's build included when it was
+  // built then), and why the last one failed ("" if it did not).
+  double last_distance_seconds() const { return distance_seconds_; }
+  const std::string& distance_error() const { return distance_error_; }
+
   // --- journal --------------------------------------------------------------
   // Script lines equivalent to what was done (for the autosave).
   const std::vector<std::string>& journal() const { return journal_; }
@@ -178,6 +211,12 @@ class EditorSession {
   // A new T_0 (open, next_cycle): what was computed or edited on the old
   // one goes (cached normals and curvatures, undo and redo, the selection).
   void forget_input_state();
+  // A new T_G (open): the measure in progress ends, the locator and the
+  // results go.
+  void forget_distance();
+  // Collects a finished measure and starts the one waiting.
+  void poll_distance();
+  void start_distance(std::shared_ptr<const Snapshot> state);
   // The engine's metric recipe of the settings (`loaded`: the metric of a
   // Sol source already read, else the file is read).
   MetricRecipe metric_recipe(const MetricSettings& s, MetricField loaded = {}) const;
@@ -213,6 +252,19 @@ class EditorSession {
   std::shared_ptr<const Snapshot> analysis_of_;
   std::uint64_t selection_counter_ = 0;
   Selection selection_;
+  // A measure's result, as its thread returns it.
+  struct Measured {
+    std::shared_ptr<const SurfaceDistance> distance;
+    double seconds = 0;
+    std::string error;
+  };
+  std::unique_ptr<Locator> distance_locator_;  // over geometry_input(); built and read by the measuring thread
+  std::future<Measured> distance_job_;         // the measure in progress (valid while it runs or is uncollected)
+  std::shared_ptr<const Snapshot> distance_job_of_, distance_pending_;
+  std::shared_ptr<const SurfaceDistance> distance_;  // the last measure and its state
+  std::shared_ptr<const Snapshot> distance_of_;
+  double distance_seconds_ = 0;
+  std::string distance_error_;
   std::vector<Vec3> normals_;
   std::vector<SymTensor3> curvature_;
   std::vector<std::string> journal_;

@@ -10,7 +10,9 @@
 namespace anisurf::editor {
 
 // Colour modes of `color MODE` and the panel.
-inline constexpr const char* kColorModes[] = {"size", "aniso", "length", "quality", "ref", "deviation", "none"};
+// "deviation": the mesh to its G1 surface (drawn on the G1 surface);
+// "distance": the mesh to the input surface T_G (drawn on the mesh).
+inline constexpr const char* kColorModes[] = {"size", "aniso", "length", "quality", "ref", "deviation", "distance", "none"};
 bool is_color_mode(const std::string& mode);
 
 struct ViewState {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <unordered_set>
 
 #include "core/error.h"
@@ -127,6 +128,16 @@ std::vector<int> spread_order(const std::vector<Vec3>& points) {
   for (int i = 0; i < n; ++i)
     if (!taken[i]) order.push_back(i);
   return order;
+}
+
+ScalarQuantity vertex_quantity(const MeshStructure& s, const std::string& name, const std::vector<double>& per_slot) {
+  ScalarQuantity q{name, ScalarLocation::Vertex};
+  q.values.assign(s.structure.geometry.positions.size(), std::numeric_limits<float>::quiet_NaN());
+  const std::size_t n = std::min(per_slot.size(), s.draw_vertex.size());
+  for (std::size_t v = 0; v < n; ++v)
+    if (s.draw_vertex[v] >= 0) q.values[static_cast<std::size_t>(s.draw_vertex[v])] = static_cast<float>(per_slot[v]);
+  q.set_range_from_data();
+  return q;
 }
 
 MeshStructure make_mesh_structure(const SurfaceMesh& mesh, const std::string& name,

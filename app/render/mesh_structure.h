@@ -24,6 +24,7 @@ inline constexpr const char* kLength = "edge length";     // edge, metric length
 inline constexpr const char* kSize = "size";              // vertex, sqrt(h1 h2) of the tangent metric
 inline constexpr const char* kAniso = "anisotropy";       // vertex, h_max / h_min of the tangent metric
 inline constexpr const char* kReference = "reference";    // triangle labels
+inline constexpr const char* kDistance = "distance to input";  // vertex, to the input surface (the editor adds it)
 }  // namespace quantity
 
 struct MeshStructureOptions {
@@ -59,6 +60,10 @@ struct MeshStructure {
 // is absent or not usable as a metric (its message lists the fields).
 MeshStructure make_mesh_structure(const SurfaceMesh& mesh, const std::string& name,
                                   const MeshStructureOptions& options = {});
+
+// A vertex quantity of `s` from one value per vertex slot of the mesh `s`
+// was made from (NaN or a missing slot: drawn grey). Range: that of the data.
+ScalarQuantity vertex_quantity(const MeshStructure& s, const std::string& name, const std::vector<double>& per_slot);
 
 // Highlights mesh triangles (and draws mesh vertices as markers), ids 0-based
 // in the mesh's numbering. Throws Error naming the first id out of range

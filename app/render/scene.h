@@ -48,6 +48,9 @@ struct ScalarQuantity {
   bool log_scale = false;   // colour by log(value) (values must be > 0)
   float range_min = 0, range_max = 1;  // values at the ends of the colormap
   std::string note;         // one line under the legend ("metric from x.sol")
+  // > 0: the legend's ticks also give each value as a percentage of this
+  // length (a distance as a share of the model's bounding box diagonal).
+  float percent_of = 0;
 
   // Range = [min, max] of the finite (and, on a log scale, positive) values.
   void set_range_from_data();

@@ -88,6 +88,7 @@ void legend_window(Scene& scene, UiState& ui, int width, int height) {
       float y = p0.y + bar_h * (1.0f - std::clamp(tmap(v), 0.0f, 1.0f));
       dl->AddLine(ImVec2(p0.x + bar_w, y), ImVec2(p0.x + bar_w + 5, y), IM_COL32(60, 60, 60, 255));
       std::string txt = format_value(v);
+      if (q->percent_of > 0) txt += "  (" + format_value(100.0f * v / q->percent_of) + "%)";
       dl->AddText(ImVec2(p0.x + bar_w + 8, y - 0.5f * line), ImGui::GetColorU32(ImGuiCol_Text), txt.c_str());
       label_w = std::max(label_w, ImGui::CalcTextSize(txt.c_str()).x);
     }
