@@ -46,11 +46,11 @@ Welded weld(const MeshData& d, double tolerance) {
 }  // namespace
 
 TEST_CASE("welding far from the origin: cell indices beyond the hash's range") {
-  // At 1e3 with a tolerance of 1e-9 x the diagonal the cell index is ~4e11:
-  // its product with the hash's primes overflowed a signed 64-bit integer.
-  // At 1e12 (and 1e149, near the largest coordinate accepted) the index is
-  // beyond 2^63: the double -> integer conversion was out of range (a square
-  // of 1e-12 x the offset, still far above the doubles' spacing there).
+  // At 1e3 with a tolerance of 1e-9 x the diagonal, coordinate / (2 tol) is
+  // ~4e11: times the hash's primes, beyond a signed 64-bit integer. At 1e12
+  // (and 1e149, near the largest coordinate accepted) the ratio itself is
+  // beyond 2^63, out of an integer's range (a square of 1e-12 x the offset,
+  // still far above the doubles' spacing there).
   for (double offset : {1e3, -1e3, 1e12, -1e15, 1e149, -1e149}) {
     CAPTURE(offset);
     const double size = offset > -1e12 && offset < 1e12 ? 1.0 : std::abs(offset) * 1e-12;
