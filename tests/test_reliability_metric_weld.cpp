@@ -61,7 +61,7 @@ TEST_CASE("anisurf metric --weld: a soup's metric is built on the welded surface
   }
 }
 
-TEST_CASE("anisurf metric --weld: a tolerance out of [0, 0.1) is a usage error") {
+TEST_CASE("anisurf metric --weld: a tolerance outside 0 <= TOL < 0.1 is a usage error") {
   const auto dir = test::temp_dir("metric_weld_usage");
   const std::string soup = write_square_soup(dir);
   for (const char* bad : {"0.5", "-1", "abc", "nan"}) {
