@@ -22,7 +22,7 @@ if ((sanitize == 0)); then
   exit
 fi
 
-# clang when present (it builds this code base several times faster than g++
+# clang when present (it builds this code base about twice as fast as g++
 # with the sanitizers), -O1 (the sanitizers' usual level).
 build_dir=build-asan
 compiler=()
