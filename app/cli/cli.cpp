@@ -2,6 +2,8 @@
 
 #include <cstdio>
 #include <iostream>
+#include <stdexcept>
+#include <string>
 
 #include "core/error.h"
 
@@ -138,6 +140,24 @@ double ArgParser::option_double(const std::string& name, double fallback) {
   } catch (const std::exception&) {
     throw UsageError{"option " + name + " expects a number, got '" + v + "'"};
   }
+}
+
+BuildOptions weld_build_options(ArgParser& p) {
+  BuildOptions o;
+  const std::string tolerance = p.option("--weld");
+  if (tolerance.empty()) return o;
+  double weld = -1;
+  try {
+    std::size_t used = 0;
+    weld = std::stod(tolerance, &used);
+    if (used != tolerance.size()) weld = -1;
+  } catch (const std::exception&) {
+  }
+  if (!(weld >= 0 && weld < 0.1))
+    throw UsageError{"--weld expects a tolerance relative to the bounding box in [0, 0.1), got '" + tolerance + "'"};
+  o.merge = BuildOptions::Merge::Always;
+  o.merge_tolerance = weld;
+  return o;
 }
 
 std::vector<std::string> ArgParser::positionals() const {

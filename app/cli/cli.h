@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "mesh/build.h"
+
 namespace anisurf::cli {
 
 struct Command {
@@ -44,5 +46,12 @@ class ArgParser {
  private:
   std::vector<std::string> args_;
 };
+
+// `--weld TOL` of the commands that read a mesh to remesh or to build a
+// metric on: the vertices closer than TOL x the bounding box diagonal merged,
+// in every format (a soup of any format builds as one surface). Without the
+// option, the format's default (STL and glTF merged, others kept apart).
+// Throws UsageError unless 0 <= TOL < 0.1.
+BuildOptions weld_build_options(ArgParser& p);
 
 }  // namespace anisurf::cli

@@ -215,12 +215,7 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
   const std::string interpolation = p.option("--interpolation");
   const std::string surface = p.option("--surface");
   c.geometry = p.option("--geometry");
-  const double weld = p.option_double("--weld", -1);
-  if (weld != -1) {
-    if (!(weld >= 0 && weld < 0.1)) throw UsageError{"--weld expects a tolerance relative to the bounding box in [0, 0.1)"};
-    c.build.merge = BuildOptions::Merge::Always;  // a soup of any format
-    c.build.merge_tolerance = weld;
-  }
+  c.build = weld_build_options(p);
   c.report = p.option("--report");
   c.interpolate = p.option("--interpolate");
   o.remesh.record_touched = !c.report.empty();  // only the JSON report counts them

@@ -41,11 +41,11 @@ const char* kQualityHelp =
     "example: anisurf quality out.mesh --sol out.sol --json\n";
 
 const char* kMetricHelp =
-    "usage: anisurf metric MESH SOURCE [BOUNDS] [--hgrad R] -o OUT.sol\n"
+    "usage: anisurf metric MESH SOURCE [BOUNDS] [--hgrad R] [--weld TOL] -o OUT.sol\n"
     "\n"
     "Builds a metric field on the vertices of MESH (the control space of the report's\n"
     "section 2) and writes it as a .sol of symmetric tensors m11 m12 m22 m13 m23 m33,\n"
-    "numbered like the vertices of MESH. Expressions use muParser syntax in x, y, z\n"
+    "numbered like the vertices of MESH (welded vertices share one value). Expressions use muParser syntax in x, y, z\n"
     "(+ - * / ^, sqrt, exp, log, sin, min, max, pi ...).\n"
     "\n"
     "SOURCE (exactly one):\n"
@@ -76,6 +76,10 @@ const char* kMetricHelp =
     "  --hgrad R             anisotropic gradation: sizes grow by at most about R per\n"
     "                        unit metric length along edges (Mmg's -hgrad; off by default)\n"
     "  --hgrad-space S       metric (default) or physical growth law\n"
+    "  --weld TOL            merge the vertices closer than TOL x the bounding box\n"
+    "                        diagonal before building the metric, in every format (0:\n"
+    "                        identical positions; a soup of triangles becomes one\n"
+    "                        surface, as with `anisurf adapt --weld`)\n"
     "  -o OUT.sol            output (required)\n"
     "\n"
     "examples:\n"
@@ -89,9 +93,10 @@ struct LoadedMetric {
   bool scalar = false;  // the .sol held a size, not a tensor
 };
 
-LoadedMetric load_mesh_and_metric(const std::string& mesh_path, const std::string& sol_path) {
+LoadedMetric load_mesh_and_metric(const std::string& mesh_path, const std::string& sol_path,
+                                  const BuildOptions& build = {}) {
   LoadedMetric l;
-  l.mesh = load_mesh(mesh_path, &l.report);
+  l.mesh = load_mesh(mesh_path, &l.report, build);
   if (!sol_path.empty()) {
     const auto fields = read_sol(sol_path, l.report.input_vertices);
     attach_fields(l.mesh, fields, l.report);
@@ -182,6 +187,7 @@ int run_metric(const std::vector<std::string>& args) {
   const double hausd = p.option_double("--hausd", nan);
   const double hgrad = p.option_double("--hgrad", nan);
   const std::string hgrad_space = p.option("--hgrad-space");
+  const BuildOptions build = weld_build_options(p);
   const auto pos = p.positionals();
   if (pos.size() != 1) throw UsageError{"expected one MESH"};
   if (out.empty()) throw UsageError{"-o OUT.sol is required"};
@@ -200,7 +206,7 @@ int run_metric(const std::vector<std::string>& args) {
   if (!mo.hessian_of_field.empty())
     throw UsageError{"--hessian-of-field is an option of `anisurf adapt` (with --interpolate F.sol)"};
   const auto t0 = std::chrono::steady_clock::now();
-  LoadedMetric l = load_mesh_and_metric(pos[0], mo.sol);
+  LoadedMetric l = load_mesh_and_metric(pos[0], mo.sol, build);
   const SurfaceMesh& mesh = l.mesh;
   MetricRecipe recipe = metric_recipe(mo, std::move(l.metric), hausd, std::isnan(hgrad) ? 0 : hgrad);
   recipe.hgrad_space = grad.space;

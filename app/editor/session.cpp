@@ -689,6 +689,22 @@ void EditorSession::clear_selection() {
   ++version_;
 }
 
+namespace {
+
+// Saving never creates directories: a mistyped path is refused, not made.
+void require_existing_directory(const std::string& output) {
+  const std::filesystem::path parent = std::filesystem::path(output).parent_path();
+  if (parent.empty()) return;
+  std::error_code ec;
+  if (!std::filesystem::is_directory(parent, ec))
+    throw Error("cannot save " + output + ": " +
+                (std::filesystem::exists(parent, ec) ? "'" + parent.string() + "' is not a directory"
+                                                     : "directory '" + parent.string() + "' does not exist") +
+                ", expected an existing directory (save does not create directories)");
+}
+
+}  // namespace
+
 void EditorSession::save(const std::string& mesh_path, const std::string& sol_path) {
   const DisplayState d = display();
   if (!d.snapshot) throw Error("no mesh: open one first");
@@ -696,11 +712,8 @@ void EditorSession::save(const std::string& mesh_path, const std::string& sol_pa
   SurfaceMesh m = d.snapshot->mesh;
   if (!sol_path.empty()) set_metric_field(m, d.snapshot->metric, "metric");
   m.compact();
-  std::error_code ec;
-  for (const std::string& p : {mesh_path, sol_path}) {
-    const auto parent = std::filesystem::path(p).parent_path();
-    if (!p.empty() && !parent.empty()) std::filesystem::create_directories(parent, ec);
-  }
+  for (const std::string& p : {mesh_path, sol_path})
+    if (!p.empty()) require_existing_directory(p);
   save_mesh(mesh_path, m);
   if (!sol_path.empty()) write_sol(sol_path, extract_fields(m), m.n_vertices(), 3);
   log("save " + mesh_path + (sol_path.empty() ? "" : " " + sol_path));

@@ -2,8 +2,10 @@
 // Reading: the triangles of every mesh primitive (TRIANGLES, TRIANGLE_STRIP,
 // TRIANGLE_FAN; indexed or not) of every node of the scene, with the node
 // transforms accumulated from the roots; a mesh used by several nodes appears
-// once per node. Images are never decoded. Writing (.glb): one mesh with one
-// primitive, float POSITION and uint32 indices, written by hand.
+// once per node. Images are never read; external buffers are read as
+// gltf_buffers.h allows (regular files under the .gltf's directory, of their
+// declared size). Writing (.glb): one mesh with one primitive, float POSITION
+// and uint32 indices, written by hand.
 #include <tiny_gltf.h>
 
 #include <array>
@@ -12,11 +14,13 @@
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "io/formats.h"
+#include "io/gltf_buffers.h"
 #include "io/text_reader.h"
 
 namespace anisurf::io {
@@ -366,6 +370,13 @@ std::size_t check_glb(ByteReader& b) {
   return length;
 }
 
+// The JSON text of a .gltf, or of a checked GLB's JSON chunk.
+std::string_view gltf_json(const ByteReader& b, bool is_glb) {
+  if (!is_glb) return b.data();
+  const auto json_length = load_le<std::uint32_t>(reinterpret_cast<const unsigned char*>(b.data().data()) + 12);
+  return std::string_view(b.data()).substr(20, json_length);
+}
+
 }  // namespace
 
 MeshData read_gltf(const std::string& path) {
@@ -373,20 +384,20 @@ MeshData read_gltf(const std::string& path) {
   if (b.size() > 0xffffffffull) throw IoError(path + ": file too large for glTF (4 GB or more)");
   std::string base_dir = std::filesystem::path(path).parent_path().string();
 
+  const bool is_glb = b.size() >= 4 && load_le<std::uint32_t>(reinterpret_cast<const unsigned char*>(b.data().data())) == kGlbMagic;
+  const std::size_t glb_length = is_glb ? check_glb(b) : 0;
+  GltfBufferFiles buffer_files(path, base_dir, gltf_json(b, is_glb));
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&skip_image, nullptr);
+  loader.SetFsCallbacks(buffer_files.callbacks());
   tinygltf::Model model;
   std::string err, warn;
-  bool ok = false;
-  const bool is_glb = b.size() >= 4 && load_le<std::uint32_t>(reinterpret_cast<const unsigned char*>(b.data().data())) == kGlbMagic;
-  if (is_glb) {
-    const std::size_t length = check_glb(b);
-    ok = loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(b.data().data()),
-                                     static_cast<unsigned int>(length), base_dir);
-  } else {
-    ok = loader.LoadASCIIFromString(&model, &err, &warn, b.data().data(), static_cast<unsigned int>(b.size()),
-                                    base_dir);
-  }
+  const bool ok = is_glb ? loader.LoadBinaryFromMemory(&model, &err, &warn,
+                                                       reinterpret_cast<const unsigned char*>(b.data().data()),
+                                                       static_cast<unsigned int>(glb_length), base_dir)
+                         : loader.LoadASCIIFromString(&model, &err, &warn, b.data().data(),
+                                                      static_cast<unsigned int>(b.size()), base_dir);
+  if (!ok && !buffer_files.read_failure().empty()) throw IoError(buffer_files.read_failure());
   auto trim = [](std::string s) {
     while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
     for (char& c : s)

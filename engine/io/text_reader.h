@@ -93,7 +93,8 @@ bool parse_integer(std::string_view token, long long& value);
 // The token in quotes for messages, cut to 40 characters.
 std::string quoted(std::string_view token);
 
-// Reads a whole file into a string; throws IoError naming the path.
+// Reads a whole file into a string; throws IoError naming the path (a
+// directory is refused by name).
 std::string read_file_contents(const std::string& path);
 // Shortest decimal text that reads back to exactly the same double.
 std::string format_double(double v);

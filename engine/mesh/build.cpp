@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <numeric>
 #include <unordered_map>
 
@@ -66,6 +67,31 @@ void check_input(const MeshData& d, const std::string& source) {
                           std::to_string(f.info.ncomp));
 }
 
+// Integer coordinates of a cell of the welding grid.
+using GridCell = std::array<std::int64_t, 3>;
+
+// Cells at least 2 tol wide (a point's neighbours within tol lie in the 27
+// cells around it) and at least 2^-60 of the largest coordinate: a cell index
+// then stays within +-2^60 for any finite coordinates, however small tol is
+// (such a cell is still only a few hundred doubles wide).
+double weld_cell_size(const std::vector<Vec3>& p, double tol) {
+  double largest = 0;
+  for (const Vec3& q : p) largest = std::max({largest, std::abs(q.x), std::abs(q.y), std::abs(q.z)});
+  const double cell = std::max(2 * tol, std::ldexp(largest, -60));
+  return std::isfinite(cell) ? cell : std::numeric_limits<double>::max();
+}
+
+GridCell grid_cell(const Vec3& q, double cell) {
+  return {static_cast<std::int64_t>(std::floor(q.x / cell)), static_cast<std::int64_t>(std::floor(q.y / cell)),
+          static_cast<std::int64_t>(std::floor(q.z / cell))};
+}
+
+// Spatial hash of a cell, in unsigned (wrapping) arithmetic.
+std::uint64_t cell_hash(const GridCell& c) {
+  return (static_cast<std::uint64_t>(c[0]) * 73856093u) ^ (static_cast<std::uint64_t>(c[1]) * 19349663u) ^
+         (static_cast<std::uint64_t>(c[2]) * 83492791u);
+}
+
 // Representative of each vertex after merging coincident positions: exact
 // equality when tol == 0, else within tol (grid hashing, 27 neighbour cells).
 std::vector<int> merge_positions(const std::vector<Vec3>& p, double tol) {
@@ -86,22 +112,17 @@ std::vector<int> merge_positions(const std::vector<Vec3>& p, double tol) {
       if (p[order[i]] == p[order[i - 1]]) rep[order[i]] = rep[order[i - 1]];
     return rep;
   }
-  const double cell = 2 * tol;
-  auto key = [](long long i, long long j, long long k) {
-    return static_cast<std::uint64_t>(i * 73856093LL ^ j * 19349663LL ^ k * 83492791LL);
-  };
+  const double cell = weld_cell_size(p, tol);
   std::unordered_multimap<std::uint64_t, int> grid;
   grid.reserve(static_cast<std::size_t>(n) * 2);
   const double tol2 = tol * tol;
   for (int v = 0; v < n; ++v) {
-    long long i = static_cast<long long>(std::floor(p[v].x / cell));
-    long long j = static_cast<long long>(std::floor(p[v].y / cell));
-    long long k = static_cast<long long>(std::floor(p[v].z / cell));
+    const GridCell c = grid_cell(p[v], cell);
     int found = -1;
-    for (long long di = -1; di <= 1 && found < 0; ++di)
-      for (long long dj = -1; dj <= 1 && found < 0; ++dj)
-        for (long long dk = -1; dk <= 1 && found < 0; ++dk) {
-          auto range = grid.equal_range(key(i + di, j + dj, k + dk));
+    for (std::int64_t di = -1; di <= 1 && found < 0; ++di)
+      for (std::int64_t dj = -1; dj <= 1 && found < 0; ++dj)
+        for (std::int64_t dk = -1; dk <= 1 && found < 0; ++dk) {
+          auto range = grid.equal_range(cell_hash({c[0] + di, c[1] + dj, c[2] + dk}));
           for (auto it = range.first; it != range.second; ++it)
             if (norm2(p[it->second] - p[v]) <= tol2) {
               found = it->second;
@@ -111,7 +132,7 @@ std::vector<int> merge_positions(const std::vector<Vec3>& p, double tol) {
     if (found >= 0) {
       rep[v] = found;
     } else {
-      grid.emplace(key(i, j, k), v);
+      grid.emplace(cell_hash(c), v);
     }
   }
   return rep;
