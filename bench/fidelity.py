@@ -28,7 +28,8 @@ Per tool: T, wall time, the maximum deviation (as above) / D. Pass: anisurf's de
 <= 1.2 D, fewer triangles than mmgs and less time.
 
 Each command is timed (wall clock, os.wait4 for the peak RSS); one that fails or runs over
-300 s gets "failed" / "timeout" in its row and the table goes on. Rows are printed as they
+300 s gets "failed" / "timeout" in its row and the table goes on. The anisurf binary is
+copied into --out first and every row runs that copy (the build may be redone meanwhile). Rows are printed as they
 finish. Cases run one at a time (the machines are shared: a ratio measured in the same run is
 the figure to trust). Outputs and logs stay in --out (one directory per input).
 """
@@ -399,17 +400,15 @@ def table1(a, names, mmgs, rows, notes):
         case = Case(name, os.path.join(a.shared, "meshes", name), os.path.join(a.out, stem(name)))
         if not case.prepare(a.anisurf):
             print("| %s | %s |" % (name, case.error) + " |" * (len(cols) * len(tools) - 1))
-            rows.append({"table": 1, "input": name, "status": case.error})
+            rows.append({"table": 1, "input": name, "status": case.error, "anisurf_binary": a.binary_ident})
             sys.stdout.flush()
             continue
         h = case.diag / 60.0
-        row = {"table": 1, "input": name, "diagonal": case.diag, "h": h}
+        row = {"table": 1, "input": name, "diagonal": case.diag, "h": h, "anisurf_binary": a.binary_ident}
         cells = []
         for tool in tools:
             out_mesh = os.path.join(case.work, "t1_%s.mesh" % tool)
             if tool == "anisurf":
-                wait_for(a.anisurf)
-                a.binaries.add(binary_id(a.anisurf))
                 cmd = [a.anisurf, "adapt", case.inp, "--size", "%.17g" % h, "-o", out_mesh]
             else:
                 cmd = [mmgs, case.inp, "-hsiz", "%.17g" % h, "-out", out_mesh]
@@ -451,20 +450,19 @@ def table2(a, names, mmgs, rows, notes):
         case = Case(name, os.path.join(a.shared, "meshes", name), os.path.join(a.out, stem(name)))
         if not case.prepare(a.anisurf):
             print("| %s | %s | |" % (name, case.error) + " |" * (len(cols) * len(tools) + 1))
-            rows.append({"table": 2, "input": name, "status": case.error})
+            rows.append({"table": 2, "input": name, "status": case.error, "anisurf_binary": a.binary_ident})
             sys.stdout.flush()
             continue
         for f in HAUSD_FACTORS:
             D = f * case.diag
             for grad in (True, False):
                 tag = "t2_%g_%s" % (f, "grad" if grad else "nograd")
-                row = {"table": 2, "input": name, "diagonal": case.diag, "D_factor": f, "D": D, "hgrad": grad}
+                row = {"table": 2, "input": name, "diagonal": case.diag, "D_factor": f, "D": D, "hgrad": grad,
+                       "anisurf_binary": a.binary_ident}
                 cells = []
                 for tool in tools:
                     out_mesh = os.path.join(case.work, "%s_%s.mesh" % (tag, tool))
                     if tool == "anisurf":
-                        wait_for(a.anisurf)
-                        a.binaries.add(binary_id(a.anisurf))
                         cmd = [a.anisurf, "adapt", case.inp, "--curvature", "--hausd", "%.17g" % D] + \
                               ([] if grad else ["--hgrad", "-1"]) + ["-o", out_mesh]
                     else:
@@ -485,7 +483,7 @@ def table2(a, names, mmgs, rows, notes):
                                              ", ".join("%.4g" % x for x in r["worst_centroid"]) + " " + where_in_box(r["worst_centroid"], case.lo, case.hi)))
                     else:
                         cells += ["-", fmt(r["seconds"], ".2f") if r["status"] == "timeout" else "-", r["status"]]
-                        notes.append("%s D=%g diag %s, %s: %s %s" % (name, f, "grad" if grad else "nograd", tool,
+                        notes.append("%s D=%g diag %s, %s: %s %s" % (name, f, "hgrad 1.3" if grad else "hgrad off", tool,
                                                                     r["status"], r["detail"]))
                     row[tool] = r
                 an, mm = row["anisurf"], row.get("mmgs")
@@ -540,16 +538,23 @@ def main():
     def pick(names):
         return [n for n in names if not sel or n in sel or stem(n) in sel]
 
-    a.binaries = {binary_id(a.anisurf)}
-    print("anisurf: %s (%s)\nmmgs: %s\nshared: %s\nout: %s\nstarted: %s" % (
-        a.anisurf, next(iter(a.binaries)), mmgs or "-", a.shared, a.out, time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime())))
+    if not wait_for(a.anisurf):
+        sys.exit("fidelity.py: no anisurf binary at %s (see --anisurf)" % a.anisurf)
+    # the build directory may be rebuilt meanwhile: every row runs one copy of the binary
+    a.anisurf_source = a.anisurf
+    ident = binary_id(a.anisurf)
+    snapshot = os.path.join(a.out, "anisurf-" + ident.split(",")[0])
+    shutil.copy2(a.anisurf, snapshot + ".tmp")
+    os.replace(snapshot + ".tmp", snapshot)
+    a.anisurf = snapshot
+    a.binary_ident = ident
+    print("anisurf: %s (%s), run as its copy %s\nmmgs: %s\nshared: %s\nout: %s\nstarted: %s" % (
+        a.anisurf_source, ident, a.anisurf, mmgs or "-", a.shared, a.out, time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime())))
     rows, notes = [], []
     if a.table in ("1", "both") and pick(TABLE1):
         table1(a, pick(TABLE1), mmgs, rows, notes)
     if a.table in ("2", "both") and pick(TABLE2):
         table2(a, pick(TABLE2), mmgs, rows, notes)
-    if len(a.binaries) > 1:
-        notes.append("the anisurf binary changed during the run (rebuilt?): " + "; ".join(sorted(a.binaries)))
     if notes:
         print("\nNotes:")
         for n in notes:
