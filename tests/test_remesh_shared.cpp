@@ -133,8 +133,10 @@ std::pair<double, double> check_features_survive(const SurfaceMesh& input, const
 enum class TestMetric { Isotropic, Curvature };
 
 // Feature survival: distance to the input feature curves, relative to the
-// diagonal (the measured worst is below 1e-3 on every shared mesh).
+// diagonal, or the sag the curves are allowed (OperatorOptions::curve_sag
+// 0.1 of h = diagonal / 50) with a margin.
 constexpr double kFeatureTolerance = 2e-3;
+constexpr double kCurveSagTolerance = 0.12 / 50;
 
 // Adapts ../shared/meshes/<name>, checking after each pass; returns false
 // when the file is absent. Isotropic: h = diagonal / 50; curvature: sizes
@@ -162,6 +164,8 @@ bool adapt_checked(const std::string& name, TestMetric kind = TestMetric::Isotro
   AdaptedMesh adapted(input, geometry, control);
   RemeshOptions o;
   o.op.lmin = 0.72;  // as `anisurf adapt`
+  // As `anisurf adapt --hausd`: curves and edges sag by 0.7 hausd at most.
+  if (kind == TestMetric::Curvature) o.op.curve_max_sag = o.op.surface_max_sag = 0.7 * diagonal / 1000;
   Remesher r(adapted, o);
 
   const int inverted_in = adapted.count_inverted();
@@ -197,14 +201,16 @@ bool adapt_checked(const std::string& name, TestMetric kind = TestMetric::Isotro
     MESSAGE("reversed falcon: " << inv << " of " << adapted.mesh().n_triangles() << " inverted, " << no_free << " without a free corner");
     // All but a few: ties of two free-corner votes, and tip triangles
     // judged by the sheet they face (either orientation faces one).
-    CHECK(inv >= adapted.mesh().n_triangles() - adapted.mesh().n_triangles() / 200);  // 99.5%
+    // Vertices held near the input (InputBound) leave a few more ties.
+    CHECK(inv >= adapted.mesh().n_triangles() - adapted.mesh().n_triangles() / 50);  // 98%
   }
   {
     INFO("feature curves after the run");
     // thinker.mesh (a broken input) is only reported: one curve vertex
     // between two corners lies 0.0026 (0.11 h) beyond the L/4 bound of the
     // G1 curve over the input edges near it, in the isotropic run.
-    check_features_survive(input, adapted.mesh(), kFeatureTolerance * diagonal, name != "thinker.mesh");
+    check_features_survive(input, adapted.mesh(), std::max(kFeatureTolerance, kCurveSagTolerance) * diagonal,
+                           name != "thinker.mesh");
   }
   const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   MESSAGE(name << ": " << passes << " passes, inverted " << inverted_in << " in, at most " << worst
