@@ -77,11 +77,21 @@ std::pair<double, double> band_share(const SurfaceMesh& out, double h) {
   return {n ? static_cast<double>(in_band) / n : 0.0, longest};
 }
 
-remesh::AdaptResult adapt_iso(const SurfaceMesh& in, double h) {
+// `in` adapted to the isotropic size diagonal / `divisions`: valid, within
+// 0.5% of the diagonal of the input, every sharp edge kept within h/4, at
+// least `min_band` of the edges in band and none longer than 2.
+void check_adapted_iso(const SurfaceMesh& in, double divisions, double min_band) {
+  const double diagonal = in.bbox().diagonal(), h = diagonal / divisions;
   remesh::AdaptOptions o;
   o.metric.source = MetricRecipe::Source::Iso;
   o.metric.iso = h;
-  return remesh::adapt({in}, o);
+  const remesh::AdaptResult r = remesh::adapt({in}, o);
+  REQUIRE(r.mesh.validate().ok());
+  CHECK(max_distance_to_input(r.mesh, in) <= 0.005 * diagonal);
+  CHECK(sharp_edges_kept(in, r.mesh, h / 4) == 1.0);
+  const auto [share, longest] = band_share(r.mesh, h);
+  CHECK(share >= min_band);
+  CHECK(longest <= 2.0);
 }
 
 // The unit cube with the faces z = 1 and x = 1 fanned from a corner into
@@ -139,26 +149,11 @@ TEST_CASE("fidelity: sharp edges at exactly the ridge angle are all tagged") {
 
 TEST_CASE("fidelity: the chamfer cube adapted to diagonal/60 stays on the input and keeps its chamfers") {
   ANISURF_REQUIRE_SHARED(path, "meshes/chamfer_cube.mesh");
-  const SurfaceMesh in = load_mesh(path);
-  const double diagonal = in.bbox().diagonal(), h = diagonal / 60;
-  const remesh::AdaptResult r = adapt_iso(in, h);
-  REQUIRE(r.mesh.validate().ok());
-  CHECK(max_distance_to_input(r.mesh, in) <= 0.005 * diagonal);
-  CHECK(sharp_edges_kept(in, r.mesh, h / 4) == 1.0);
-  const auto [share, longest] = band_share(r.mesh, h);
-  CHECK(share >= 0.95);
-  CHECK(longest <= 2.0);
+  check_adapted_iso(load_mesh(path), 60, 0.95);
 }
 
 TEST_CASE("fidelity: a box fanned with slivers into a 90 degree edge keeps its edges and stays on the input") {
   const SurfaceMesh in = sliver_fanned_box(1e-5);
   REQUIRE(in.validate().ok());
-  const double diagonal = in.bbox().diagonal(), h = diagonal / 40;
-  const remesh::AdaptResult r = adapt_iso(in, h);
-  REQUIRE(r.mesh.validate().ok());
-  CHECK(max_distance_to_input(r.mesh, in) <= 0.005 * diagonal);
-  CHECK(sharp_edges_kept(in, r.mesh, h / 4) == 1.0);
-  const auto [share, longest] = band_share(r.mesh, h);
-  CHECK(share >= 0.9);
-  CHECK(longest <= 2.0);
+  check_adapted_iso(in, 40, 0.9);
 }

@@ -62,6 +62,11 @@ std::vector<FeatureEdgeAt> feature_edges_at(const SurfaceMesh& mesh, Vertex v) {
   return out;
 }
 
+double curve_turn(const SurfaceMesh& mesh, Vertex v, const FeatureEdgeAt& a, const FeatureEdgeAt& b) {
+  const Vec3& p = mesh.position(v);
+  return std::numbers::pi - angle_between(mesh.position(a.other) - p, mesh.position(b.other) - p);
+}
+
 FeatureReport detect_features(SurfaceMesh& mesh, const FeatureOptions& options) {
   FeatureReport rep;
   mesh.update_boundary_tags();
@@ -102,12 +107,7 @@ FeatureReport detect_features(SurfaceMesh& mesh, const FeatureOptions& options) 
     if (on_ridge) mesh.add_vertex_tag(vh, kRidge);
     if (fe.empty()) continue;
     bool corner = fe.size() != 2;
-    if (!corner) {
-      const Vec3& p = mesh.position(vh);
-      // turning angle: pi minus the angle between the two edges at v
-      const double turn = std::numbers::pi - angle_between(mesh.position(fe[0].other) - p, mesh.position(fe[1].other) - p);
-      corner = turn > corner_angle;
-    }
+    if (!corner) corner = curve_turn(mesh, vh, fe[0], fe[1]) > corner_angle;
     if (corner) mesh.add_vertex_tag(vh, kCorner);
   }
   for (int v : options.add_corners) {

@@ -63,6 +63,10 @@ struct FeatureEdgeAt {
 };
 std::vector<FeatureEdgeAt> feature_edges_at(const SurfaceMesh& mesh, Vertex v);
 
+// How far a feature curve turns at v between its edges a and b (0 = straight
+// on, pi = folding back), in radians.
+double curve_turn(const SurfaceMesh& mesh, Vertex v, const FeatureEdgeAt& a, const FeatureEdgeAt& b);
+
 // Tags the features of `mesh` in place: kRidge on ridge and interface edges,
 // kBoundary refreshed from the connectivity, kRidge on every vertex of a
 // kRidge edge, kCorner on corners; then applies the user's edits. Throws

@@ -148,10 +148,7 @@ void AdaptedMesh::measure_sagitta() {
   auto curve_turn = [&](Vertex v) {
     if (g.vertex_tags(v) & (kCorner | kRequired)) return 0.0;
     const auto fe = feature_edges_at(g, v);
-    if (fe.size() != 2) return 0.0;
-    const Vec3& p = g.position(v);
-    const Vec3 a = p - g.position(fe[0].other), b = g.position(fe[1].other) - p;
-    return std::atan2(norm(cross(a, b)), dot(a, b));
+    return fe.size() == 2 ? anisurf::curve_turn(g, v, fe[0], fe[1]) : 0.0;
   };
   for (Triangle t : g.triangles()) {
     double worst = 0;
