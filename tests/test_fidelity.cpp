@@ -131,6 +131,36 @@ SurfaceMesh sliver_fanned_box(double first_deg) {
   return m;
 }
 
+// A flat quarter disc of radius 1 sampled on `segments` angles: the disc
+// r <= 0.75 (reference 1) and the band beyond it (reference 2) as rings of
+// triangles, so that the interface is the circle r = 0.75 sampled at its
+// ends (on the axes, corners) and in between.
+SurfaceMesh quarter_disc_with_interface(int segments) {
+  MeshData d;
+  const std::vector<double> radii = {0.25, 0.5, 0.75, 0.875, 1.0};
+  d.vertices.push_back({0, 0, 0});
+  for (double r : radii)
+    for (int k = 0; k <= segments; ++k) {
+      const double a = 0.5 * std::numbers::pi * k / segments;
+      d.vertices.push_back({r * std::cos(a), r * std::sin(a), 0});
+    }
+  auto at = [&](std::size_t ring, int k) { return static_cast<int>(1 + ring * (segments + 1) + k); };
+  for (int k = 0; k < segments; ++k) {
+    d.triangles.push_back({0, at(0, k), at(0, k + 1)});
+    d.triangle_refs.push_back(1);
+  }
+  for (std::size_t ring = 0; ring + 1 < radii.size(); ++ring)
+    for (int k = 0; k < segments; ++k) {
+      const int ref = radii[ring + 1] <= 0.75 ? 1 : 2;
+      d.triangles.push_back({at(ring, k), at(ring + 1, k), at(ring + 1, k + 1)});
+      d.triangles.push_back({at(ring, k), at(ring + 1, k + 1), at(ring, k + 1)});
+      d.triangle_refs.insert(d.triangle_refs.end(), {ref, ref});
+    }
+  SurfaceMesh m;
+  build_mesh(d, m);
+  return m;
+}
+
 }  // namespace
 
 TEST_CASE("fidelity: sharp edges at exactly the ridge angle are all tagged") {
@@ -156,4 +186,32 @@ TEST_CASE("fidelity: a box fanned with slivers into a 90 degree edge keeps its e
   const SurfaceMesh in = sliver_fanned_box(1e-5);
   REQUIRE(in.validate().ok());
   check_adapted_iso(in, 40, 0.9);
+}
+
+TEST_CASE("fidelity: a circular interface between two references stays on its circle, ends included") {
+  // The G1 curve through the circle's vertices follows the circle; its
+  // points lie up to the chord's sagitta off the input's polyline, the end
+  // segments at the corners included (the input bound takes their
+  // curvature from the regular end).
+  const SurfaceMesh in = quarter_disc_with_interface(10);
+  remesh::AdaptOptions o;
+  o.metric.source = MetricRecipe::Source::Iso;
+  o.metric.iso = 0.02;
+  const remesh::AdaptResult r = remesh::adapt({in}, o);
+  REQUIRE(r.mesh.validate().ok());
+  int interface_vertices = 0;
+  double worst = 0;
+  for (Corner c : r.mesh.edges()) {
+    const Corner o2 = r.mesh.opposite(c);
+    if (!o2.is_valid() ||
+        r.mesh.triangle_ref(SurfaceMesh::triangle(c)) == r.mesh.triangle_ref(SurfaceMesh::triangle(o2)))
+      continue;
+    for (Vertex v : {r.mesh.edge_from(c), r.mesh.edge_to(c)}) {
+      const Vec3& p = r.mesh.position(v);
+      worst = std::max(worst, std::fabs(std::hypot(p.x, p.y) - 0.75));
+      ++interface_vertices;
+    }
+  }
+  CHECK(interface_vertices >= 2 * 50);  // the arc is 1.18 long: ~59 edges of 0.02
+  CHECK(worst <= 1e-6);                 // the chords' sagitta: 2.3e-3
 }

@@ -140,15 +140,29 @@ void AdaptedMesh::pull_towards_input(Placement& p, const Location& on_geometry) 
 
 // Per triangle of T_G, 4/3 of |e| theta / 8 over its edges (InputBound): theta the
 // dihedral angle across an edge inside a smooth region, or on a feature
-// curve the mean turn of the curve at the edge's ends (0 at a corner, where
-// the curve may start in any direction).
+// curve the angle the curve turns along the edge, |e| times its curvature
+// (the mean of its ends' discrete curvatures, turn / mean length of the two
+// edges there: right for a circle sampled unevenly). A corner has no
+// curvature of its own (the curve may start in any direction): an edge with
+// a corner at one end takes its other end's, whose circle the curve's
+// tangent follows there (NormalOptions::corner_tangent_tolerance_deg), 0
+// when both ends are corners.
 void AdaptedMesh::measure_sagitta() {
   const SurfaceMesh& g = geometry_.mesh();
   sagitta_.assign(static_cast<std::size_t>(g.triangle_capacity()), 0.0f);
-  auto curve_turn = [&](Vertex v) {
-    if (g.vertex_tags(v) & (kCorner | kRequired)) return 0.0;
+  // The curve's curvature at v, or -1 where v has none (corner, required, end).
+  auto curvature = [&](Vertex v) {
+    if (g.vertex_tags(v) & (kCorner | kRequired)) return -1.0;
     const auto fe = feature_edges_at(g, v);
-    return fe.size() == 2 ? anisurf::curve_turn(g, v, fe[0], fe[1]) : 0.0;
+    if (fe.size() != 2) return -1.0;
+    const Vec3& p = g.position(v);
+    const double mean_len = 0.5 * (norm(g.position(fe[0].other) - p) + norm(g.position(fe[1].other) - p));
+    return mean_len > 0 ? anisurf::curve_turn(g, v, fe[0], fe[1]) / mean_len : -1.0;
+  };
+  auto edge_turn = [&](Vertex a, Vertex b, double len) {
+    const double ka = curvature(a), kb = curvature(b);
+    const double k = ka < 0 || kb < 0 ? std::max({ka, kb, 0.0}) : 0.5 * (ka + kb);
+    return len * k;
   };
   for (Triangle t : g.triangles()) {
     double worst = 0;
@@ -159,7 +173,7 @@ void AdaptedMesh::measure_sagitta() {
       const double len = norm(g.position(b) - g.position(a));
       double theta = 0;
       if (is_feature_edge(g, c)) {
-        theta = 0.5 * (curve_turn(a) + curve_turn(b));
+        theta = edge_turn(a, b, len);
       } else {
         const Vec3 no = g.triangle_normal(SurfaceMesh::triangle(g.opposite(c)));
         theta = std::atan2(norm(cross(nt, no)), dot(nt, no));
