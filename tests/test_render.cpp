@@ -200,9 +200,13 @@ TEST_CASE("colormaps: viridis ends and monotone lightness, coolwarm blue-grey-re
 }
 
 TEST_CASE("legend ticks: sorted, inside the range, both ends, nice values") {
-  for (auto [lo, hi, log] : {std::tuple{0.0f, 1.0f, false}, std::tuple{0.5f, 2.0f, true},
+  for (const auto& range : {std::tuple{0.0f, 1.0f, false}, std::tuple{0.5f, 2.0f, true},
                              std::tuple{0.03464f, 0.1f, true}, std::tuple{-3.0f, 250.0f, false},
                              std::tuple{1.0f, 8.3f, true}}) {
+    // Plain variables, not structured bindings: CAPTURE's lambda cannot take
+    // those with clang 14.
+    const float lo = std::get<0>(range), hi = std::get<1>(range);
+    const bool log = std::get<2>(range);
     CAPTURE(lo);
     CAPTURE(hi);
     auto t = legend_ticks(lo, hi, log);

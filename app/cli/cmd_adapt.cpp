@@ -93,6 +93,9 @@ const char* kAdaptHelp =
     "  --max-memory MB      refuse, before any pass, a metric whose predicted output\n"
     "                       needs more (about 400 bytes per predicted vertex; default:\n"
     "                       the machine's memory)\n"
+    "  --max-growth K       stop (error, nothing written) when the mesh grows past K x\n"
+    "                       the predicted vertices + the input's: a metric the\n"
+    "                       surface's curvature cannot carry (default 8; 0: no limit)\n"
     "  --relax N            Remark 6: adapt first to N relaxed metrics between the\n"
     "                       input mesh's sizes and the target (default 0: off)\n"
     "  --report FILE        per-pass report (JSON)\n"
@@ -211,6 +214,9 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
   const double max_memory_mb = p.option_double("--max-memory", 0);
   if (!(max_memory_mb >= 0)) throw UsageError{"--max-memory expects megabytes >= 0 (0: the machine's memory)"};
   o.memory_limit = max_memory_mb * 1e6;
+  o.max_growth = p.option_double("--max-growth", o.max_growth);
+  if (!(o.max_growth >= 0) || !std::isfinite(o.max_growth))
+    throw UsageError{"--max-growth expects a factor >= 0 (0: no limit)"};
   const std::string length = p.option("--length");
   const std::string interpolation = p.option("--interpolation");
   const std::string surface = p.option("--surface");

@@ -7,6 +7,7 @@
 #include <chrono>
 
 #include "core/error.h"
+#include "metric/surface_metric.h"
 #include "remesh/reference.h"
 
 namespace anisurf::editor {
@@ -83,7 +84,9 @@ void Adaptation::rebuild_from(const Snapshot& s) {
   adapted_.reset();
   adapted_ = std::make_unique<remesh::AdaptedMesh>(s.mesh, *geometry_, *control_, settings_.length, false,
                                                    remesh::input_bound_of(settings_));
-  remesher_ = std::make_unique<remesh::Remesher>(*adapted_, remesh::remesh_options_of(settings_));
+  remesh::RemeshOptions options = remesh::remesh_options_of(settings_);
+  remesh::set_growth_limits(options, settings_.max_growth, predicted_vertices(input_, metric_), input_.n_vertices());
+  remesher_ = std::make_unique<remesh::Remesher>(*adapted_, options);
   remesher_->set_schedule(s.schedule);
 }
 
@@ -120,6 +123,12 @@ void Adaptation::work(std::size_t from, int max_passes) {
       snap->schedule = remesher_->schedule();
       snap->label = (r.round > 0 ? std::to_string(r.round) + " " : std::string()) +
                     std::string(remesh::pass_name(kind)) + (r.interrupted ? " (interrupted)" : "");
+      // A metric the surface cannot carry: the pass stopped, the schedule
+      // ended; the mesh so far stays on the timeline, the message says why.
+      const std::string stopped =
+          r.over_limit ? remesh::over_limit_message({r}, remesher_->options(), predicted_vertices(input_, metric_),
+                                                    input_.n_vertices(), settings_.max_growth)
+                       : std::string();
       snap->report = std::move(r);
       last_pass_seconds_ = snap->report.seconds;
       last_snapshot_seconds_ = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -127,8 +136,10 @@ void Adaptation::work(std::size_t from, int max_passes) {
         std::lock_guard lock(mutex_);
         timeline_.push_back(std::move(snap));
         built_from_ = timeline_.size() - 1;
+        if (!stopped.empty()) error_ = stopped;
         ++version_;
       }
+      if (!stopped.empty()) break;
     }
   } catch (const std::exception& e) {
     std::lock_guard lock(mutex_);

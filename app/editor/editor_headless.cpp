@@ -55,9 +55,6 @@ int run_script_headless(const ScriptOptions& o) {
       ev.update(session, view, scene, aspect, ui.left_reserve(W), ui.right_reserve(W));
     }
     render::Image img = renderer->render(scene, ui_cb, W, H, 3);
-    std::error_code ec;
-    const auto parent = std::filesystem::path(png).parent_path();
-    if (!parent.empty()) std::filesystem::create_directories(parent, ec);
     render::write_png(png, img);
     std::fprintf(stderr, "screenshot %s (%dx%d, %.2f s)\n", png.c_str(), W, H,
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());

@@ -381,12 +381,15 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
       gl::glReadPixels(0, 0, fbw, fbh, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
       img.flip_rows();
       for (std::size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 255;
-      std::error_code ec;
-      const auto parent = std::filesystem::path(pending_shot).parent_path();
-      if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-      render::write_png(pending_shot, img);
-      std::fprintf(stderr, "screenshot %s (%dx%d)\n", pending_shot.c_str(), fbw, fbh);
-      a.panels.message = "wrote " + pending_shot;
+      try {
+        render::write_png(pending_shot, img);
+        std::fprintf(stderr, "screenshot %s (%dx%d)\n", pending_shot.c_str(), fbw, fbh);
+        a.panels.message = "wrote " + pending_shot;
+        a.panels.message_is_error = false;
+      } catch (const std::exception& e) {
+        a.panels.message = e.what();
+        a.panels.message_is_error = true;
+      }
       pending_shot.clear();
     }
     glfwSwapBuffers(window);

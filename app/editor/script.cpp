@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 namespace anisurf::editor {
@@ -321,6 +322,8 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
   } else if (cmd == "screenshot") {
     arity(l, 1, 1, "screenshot PNG");
     if (!host.screenshot) throw LineError{"screenshot: no renderer"};
+    // Checked here, at the line (a mistyped directory is refused, never made).
+    check_writable(l.words[1]);
     host.screenshot(l.words[1]);
   } else if (cmd == "save") {
     need_mesh();

@@ -2,6 +2,11 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
+#include <limits>
+#include <string>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -69,6 +74,27 @@ void check_predicted_size(double predicted_vertices, double limit) {
   throw Error(msg);
 }
 
+// The filters that refused most often over `passes`, with their counts:
+// "deviation 5123, quality 310".
+std::string main_refusals(const std::vector<PassReport>& passes, int how_many) {
+  std::array<long long, kRejectionCount> total{};
+  for (const PassReport& p : passes)
+    for (int k = 0; k < kRejectionCount; ++k) total[static_cast<std::size_t>(k)] += p.rejected[static_cast<std::size_t>(k)];
+  std::vector<int> order;
+  for (int k = 1; k < kRejectionCount; ++k)
+    if (total[static_cast<std::size_t>(k)] > 0) order.push_back(k);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return total[static_cast<std::size_t>(a)] > total[static_cast<std::size_t>(b)];
+  });
+  std::string out;
+  for (std::size_t i = 0; i < order.size() && static_cast<int>(i) < how_many; ++i) {
+    if (!out.empty()) out += ", ";
+    out += std::string(rejection_name(static_cast<Rejection>(order[i]))) + " " +
+           std::to_string(total[static_cast<std::size_t>(order[i])]);
+  }
+  return out.empty() ? "none" : out;
+}
+
 bool is_fixed_point(const std::vector<CycleReport>& cycles, double tolerance) {
   if (cycles.size() < 2) return false;
   const double a = cycles[cycles.size() - 2].final.vertices, b = cycles.back().final.vertices;
@@ -76,6 +102,36 @@ bool is_fixed_point(const std::vector<CycleReport>& cycles, double tolerance) {
 }
 
 }  // namespace
+
+int vertex_limit(double max_growth, double predicted_vertices, int t0_vertices) {
+  if (!(max_growth > 0) || !std::isfinite(predicted_vertices)) return 0;
+  const double limit = max_growth * predicted_vertices + t0_vertices;
+  return limit < static_cast<double>(std::numeric_limits<int>::max()) ? static_cast<int>(std::ceil(limit)) : 0;
+}
+
+void set_growth_limits(RemeshOptions& options, double max_growth, double predicted_vertices, int t0_vertices) {
+  options.max_round_vertices = vertex_limit(max_growth, predicted_vertices, t0_vertices);
+  options.max_vertices = vertex_limit(kPassOvershoot * max_growth, predicted_vertices, t0_vertices);
+}
+
+std::string over_limit_message(const std::vector<PassReport>& passes, const RemeshOptions& options,
+                               double predicted_vertices, int t0_vertices, double max_growth) {
+  const PassReport* last = passes.empty() ? nullptr : &passes.back();
+  const bool in_pass = last && last->interrupted;
+  const int limit = in_pass ? options.max_vertices : options.max_round_vertices;
+  const double factor = in_pass ? kPassOvershoot * max_growth : max_growth;
+  char head[480];
+  std::snprintf(head, sizeof head,
+                "adaptation stopped %s round %d: the mesh %s %d vertices, past %d = %g x the %.0f vertices the "
+                "metric predicts + the %d of the input: the surface cannot carry this metric (edges the metric "
+                "wants long are refused, their neighbours short: ",
+                in_pass ? "in" : "after", last ? last->round : 0, in_pass ? "grew to" : "kept",
+                last ? last->vertices : 0, limit, factor, predicted_vertices, t0_vertices);
+  return std::string(head) + "refusals " + main_refusals(passes, 3) +
+         "). Lower the metric's anisotropy where the surface is curved (--max-aniso, --hmax, or intersect it "
+         "with a curvature metric: --hausd), or raise the growth limit (--max-growth; 0: none).";
+}
+
 
 RemeshOptions band_remesh_options() {
   RemeshOptions o;
@@ -109,6 +165,7 @@ void check_options(const AdaptOptions& o) {
   if (o.remesh.max_rounds < 1) throw Error("the number of rounds must be >= 1");
   if (o.remesh.relaxation_stages < 0) throw Error("the number of relaxation stages must be >= 0");
   if (!(o.memory_limit >= 0)) throw Error("the memory limit must be >= 0 bytes");
+  if (!(o.max_growth >= 0) || !std::isfinite(o.max_growth)) throw Error("the growth limit must be a number >= 0");
 }
 
 std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKind kind) {
@@ -179,7 +236,9 @@ AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& 
     timer.done("T_1 located on T_G and T_0");
     report.setup_seconds = timer.total();
 
-    auto remesher = std::make_unique<Remesher>(*adapted, remesh_options_of(options));
+    RemeshOptions remesh_options = remesh_options_of(options);
+    set_growth_limits(remesh_options, options.max_growth, report.predicted_vertices, t0.n_vertices());
+    auto remesher = std::make_unique<Remesher>(*adapted, remesh_options);
     report.initial = remesher->measure();
     report.inverted_before = adapted->count_inverted();
     if (cb.cycle_started) cb.cycle_started(report);
@@ -187,6 +246,9 @@ AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& 
     report.passes = remesher->run([&](const PassReport& r) {
       if (cb.pass) cb.pass(r);
     });
+    if (!report.passes.empty() && report.passes.back().over_limit)
+      throw AdaptationStopped(over_limit_message(report.passes, remesh_options, report.predicted_vertices,
+                                                 t0.n_vertices(), options.max_growth));
     report.remesh_seconds = seconds_since(t_run);
     report.final = remesher->measure();
     report.inverted_after = adapted->count_inverted();

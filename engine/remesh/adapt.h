@@ -58,6 +58,13 @@ struct AdaptOptions {
   // 0: the machine's physical memory). The estimate is
   // kBytesPerPredictedVertex per predicted vertex.
   double memory_limit = 0;
+  // A metric the surface cannot carry (far longer edges than its curvature
+  // allows in one direction, much shorter ones in the other) makes the
+  // refinement run away from the prediction: the adaptation stops with
+  // AdaptationStopped when a round ends with more than max_growth x the
+  // predicted vertices + T_0's vertices, or a pass grows T_1 past
+  // kPassOvershoot times that (set_growth_limits). 0: no limit.
+  double max_growth = 8;
   // How far from the input the smooth surface may put vertices (its hausd
   // is the recipe's: use input_bound_of).
   InputBound input_bound;
@@ -69,6 +76,32 @@ InputBound input_bound_of(const AdaptOptions& options);
 // cap of the feature curves' and the surface's sag (OperatorOptions::
 // curve_max_sag, surface_max_sag).
 RemeshOptions remesh_options_of(const AdaptOptions& options);
+
+// The vertex count past which a cycle stops: max_growth x predicted + the
+// vertices of T_0 (0: no limit, max_growth 0).
+int vertex_limit(double max_growth, double predicted_vertices, int t0_vertices);
+
+// How far a pass may take the mesh past the round's limit: a split pass
+// refines everything before the collapses of its round thin it out (8.4 x
+// the final count seen on a 121-vertex grid under a Hessian metric).
+inline constexpr double kPassOvershoot = 8;
+
+// RemeshOptions::max_round_vertices and max_vertices from max_growth, the
+// metric's predicted vertices and T_0's vertex count.
+void set_growth_limits(RemeshOptions& options, double max_growth, double predicted_vertices, int t0_vertices);
+
+// Thrown by adapt() when a cycle's mesh grows past its vertex_limit: the
+// message says how far, against what prediction, and which filters refused
+// the operations that would have met the metric.
+class AdaptationStopped : public Error {
+ public:
+  using Error::Error;
+};
+
+// The message of AdaptationStopped for the passes of a cycle whose last one
+// went over its limit (options: the limits it ran with).
+std::string over_limit_message(const std::vector<PassReport>& passes, const RemeshOptions& options,
+                               double predicted_vertices, int t0_vertices, double max_growth);
 
 // Peak memory per output vertex of an adaptation, with a margin: measured
 // 150-170 bytes per output triangle (2 per vertex) on the large bench cases.

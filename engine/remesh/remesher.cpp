@@ -138,8 +138,13 @@ void Remesher::mark_all() {
 
 bool Remesher::interrupted(PassReport& r) {
   if (r.interrupted) return true;
-  if (!interrupt_ || ++interrupt_polls_ % 256 != 0) return false;
-  r.interrupted = interrupt_();
+  if (++interrupt_polls_ % 256 != 0) return false;
+  if (options_.max_vertices > 0 && mesh_.mesh().n_vertices() > options_.max_vertices) {
+    r.over_limit = true;
+    r.interrupted = true;
+    return true;
+  }
+  if (interrupt_) r.interrupted = interrupt_();
   return r.interrupted;
 }
 
@@ -569,7 +574,11 @@ PassReport Remesher::advance() {
   // again, from the mesh it left, by the next advance()).
   const Schedule before = schedule_;
   PassReport r = advance_schedule();
-  if (r.interrupted) schedule_ = before;
+  if (r.over_limit) {
+    schedule_.phase = Schedule::Phase::Done;
+  } else if (r.interrupted) {
+    schedule_ = before;
+  }
   return r;
 }
 
@@ -606,6 +615,7 @@ PassReport Remesher::advance_schedule() {
   s.round_changes += r.splits + r.collapses;  // only the split and collapse passes make either
   if (round_end) {
     end_round();
+    r.over_limit = options_.max_round_vertices > 0 && mesh_.mesh().n_vertices() > options_.max_round_vertices;
   } else {
     ++s.pass;
   }

@@ -73,6 +73,17 @@ struct RemeshOptions {
   bool split_by_generation = true;
   int max_split_generations = 64;
   double few_splits_share = 0.01;
+  // Guards against a metric the surface cannot carry (edges longer than its
+  // curvature allows in one direction, much shorter in the other: the
+  // refinement runs away from the metric's prediction). A round that ends
+  // with more than max_round_vertices vertices, or a pass that grows the
+  // mesh past max_vertices (checked with the interrupt, every 256
+  // operations: a split pass overshoots the round's count before its
+  // collapses, so this one is the larger), is reported `over_limit` and
+  // the schedule ends there. 0: no limit. adapt() sets both from
+  // AdaptOptions::max_growth (set_growth_limits).
+  int max_round_vertices = 0;
+  int max_vertices = 0;
 };
 
 enum class PassKind { Split, Collapse, Swap, Smooth, Final };
@@ -104,6 +115,10 @@ struct PassReport {
   // The pass stopped early (Remesher::set_interrupt): the mesh is valid, the
   // pass is not complete.
   bool interrupted = false;
+  // The mesh grew past RemeshOptions::max_vertices during the pass (which
+  // stopped: interrupted is set too) or past max_round_vertices at the end
+  // of the round: the mesh is valid, the schedule is done.
+  bool over_limit = false;
   // Vertex slots created, kept or moved by the pass (the elements it
   // touched), each once, in the order of their first change; empty when
   // RemeshOptions::record_touched is off.
@@ -161,7 +176,9 @@ class Remesher {
   // A check polled within the passes (every 256 operations or vertices):
   // when it returns true the pass ends after the operation in progress,
   // reported `interrupted`; advance() then leaves the schedule at that pass.
-  // For an interactive caller whose user pauses a long pass.
+  // For an interactive caller whose user pauses a long pass. The same poll
+  // ends a pass, and the schedule, when the mesh grows past
+  // RemeshOptions::max_vertices (PassReport::over_limit).
   void set_interrupt(std::function<bool()> check) { interrupt_ = std::move(check); }
 
   // The state of the mesh now (histogram, quality) without changing it.
