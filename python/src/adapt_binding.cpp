@@ -159,7 +159,8 @@ Result result_from(EngineRun run) {
 }
 
 Result adapt(py::object vertices, py::object triangles, const py::kwargs& kwargs) {
-  Keywords k(kwargs, "adapt");
+  static const std::vector<std::string> data_keywords = {"fields", "refs", "geometry"};
+  Keywords k(kwargs, "adapt", {&data_keywords, &kSourceKeywords, &kTuningKeywords, &kRemeshKeywords});
   const py::object fields = k.take("fields");
   const py::object refs = k.take("refs");
   const py::object geometry = k.take("geometry");

@@ -41,10 +41,12 @@ void read_tags(const Mesh& mesh, MeshData& d) {
   if (!is_none_or_empty(mesh.vertex_refs)) d.vertex_refs = ints_from(mesh.vertex_refs, nv, -1, "vertex_refs");
 }
 
-std::string mesh_repr(const Mesh& m) {
+std::string mesh_repr(py::handle self) {
+  const Mesh& m = self.cast<const Mesh&>();
   std::string fields;
   for (auto item : m.fields) fields += (fields.empty() ? "" : ", ") + py::str(item.first).cast<std::string>();
-  return "<anisurf.Mesh: " + std::to_string(py::len(m.vertices)) + " vertices, " +
+  const std::string type = py::str(py::type::of(self).attr("__name__")).cast<std::string>();
+  return "<anisurf." + type + ": " + std::to_string(py::len(m.vertices)) + " vertices, " +
          std::to_string(py::len(m.triangles)) + " triangles" + (fields.empty() ? "" : ", fields: " + fields) + ">";
 }
 

@@ -52,7 +52,7 @@ py::array_t<double> metric_on_arrays(py::handle vertices, py::handle triangles, 
 // A builder: `source` set on the recipe, the other keywords read as tuning.
 py::array_t<double> build(py::handle vertices, py::handle triangles, const char* function, const py::kwargs& kwargs,
                           MetricRecipe recipe, py::handle values = py::none()) {
-  Keywords k(kwargs, function);
+  Keywords k(kwargs, function, {&kTuningKeywords});
   metric_tuning_from(k, recipe, 0);
   k.finish();
   return metric_on_arrays(vertices, triangles, std::move(recipe), values);

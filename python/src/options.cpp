@@ -2,6 +2,7 @@
 
 #include <pybind11/numpy.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -49,8 +50,26 @@ Enum choice(Keywords& k, const char* name, std::initializer_list<std::pair<const
 
 }  // namespace
 
-Keywords::Keywords(const py::kwargs& kwargs, std::string function) : function_(std::move(function)) {
-  for (auto item : kwargs) left_[item.first] = item.second;
+const std::vector<std::string> kTuningKeywords = {"error", "complexity", "target_vertices", "norm",
+                                                   "error_constant", "hmin", "hmax", "max_aniso",
+                                                   "hausd", "hgrad", "hgrad_space"};
+const std::vector<std::string> kSourceKeywords = {"metric", "size", "tensor", "hessian_of", "hessian_of_field",
+                                                  "curvature"};
+const std::vector<std::string> kRemeshKeywords = {
+    "ridge_angle", "detect_ridges", "lmin", "lmax", "curve_turn", "curve_sag", "free_surface", "rounds", "relax",
+    "cycles", "fixed_point", "max_memory", "measure_every_pass", "length", "interpolation", "surface", "weld"};
+
+Keywords::Keywords(const py::kwargs& kwargs, std::string function,
+                   std::initializer_list<const std::vector<std::string>*> known)
+    : function_(std::move(function)) {
+  for (auto item : kwargs) {
+    const std::string name = py::str(item.first).cast<std::string>();
+    bool found = false;
+    for (const std::vector<std::string>* names : known)
+      found = found || std::find(names->begin(), names->end(), name) != names->end();
+    if (!found) throw py::type_error(function_ + "() got an unexpected keyword argument '" + name + "'");
+    left_[item.first] = item.second;
+  }
 }
 
 bool Keywords::has(const char* name) const {

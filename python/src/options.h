@@ -5,7 +5,9 @@
 #pragma once
 #include <pybind11/pybind11.h>
 
+#include <initializer_list>
 #include <string>
+#include <vector>
 
 #include "mesh/build.h"
 #include "metric/recipe.h"
@@ -15,11 +17,18 @@ namespace anisurf::python {
 
 namespace py = pybind11;
 
-// The keyword arguments of one call, taken one by one; finish() raises
-// TypeError naming any keyword no one took. None stands for "not given".
+// The keyword names of the metric tuning (metric_tuning_from), of the
+// metric sources (metric_source_from) and of the remeshing
+// (adapt_options_from, build_options_from).
+extern const std::vector<std::string> kTuningKeywords, kSourceKeywords, kRemeshKeywords;
+
+// The keyword arguments of one call, taken one by one. None stands for "not
+// given". The constructor raises TypeError naming a keyword none of the
+// `known` lists holds (before any other check, as Python does); finish()
+// raises it for a keyword no one took.
 class Keywords {
  public:
-  Keywords(const py::kwargs& kwargs, std::string function);
+  Keywords(const py::kwargs& kwargs, std::string function, std::initializer_list<const std::vector<std::string>*> known);
 
   bool has(const char* name) const;
   py::object take(const char* name);  // None when absent
