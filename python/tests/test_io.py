@@ -77,3 +77,18 @@ def test_load_builds_as_the_command_line():
     assert len(raw.vertices) == 3 * len(raw.triangles)
     assert len(built.vertices) < len(raw.vertices) / 3
     assert len(built.vertices) - len(built.triangles) / 2 == 0  # a torus: V - E + T = 0
+
+
+def test_a_meshio_mesh_adapts_and_goes_back(tmp_path):
+    meshio = pytest.importorskip("meshio")
+    vertices, triangles = icosphere(2)
+    meshio.write(str(tmp_path / "in.vtu"), meshio.Mesh(vertices, [("triangle", triangles)]))
+    m = meshio.read(str(tmp_path / "in.vtu"))
+    r = anisurf.adapt(m.points, m.cells_dict["triangle"], size=0.15, fields={"z": m.points[:, 2]})
+    meshio.write(str(tmp_path / "out.vtu"),
+                 meshio.Mesh(r.vertices, [("triangle", r.triangles)], point_data={"metric": r.metric, **r.fields}))
+    back = meshio.read(str(tmp_path / "out.vtu"))
+    assert np.array_equal(back.points, r.vertices)
+    assert np.array_equal(back.cells_dict["triangle"], r.triangles)
+    assert np.array_equal(back.point_data["metric"], r.metric)
+    assert np.abs(back.point_data["z"] - r.vertices[:, 2]).max() < 0.05
