@@ -57,7 +57,7 @@ const std::vector<std::string> kSourceKeywords = {"metric", "size", "tensor", "h
                                                   "curvature"};
 const std::vector<std::string> kRemeshKeywords = {
     "ridge_angle", "detect_ridges", "lmin", "lmax", "curve_turn", "curve_sag", "free_surface", "rounds", "relax",
-    "cycles", "fixed_point", "max_memory", "measure_every_pass", "length", "interpolation", "surface", "weld"};
+    "cycles", "fixed_point", "max_memory", "max_growth", "measure_every_pass", "length", "interpolation", "surface", "weld"};
 
 Keywords::Keywords(const py::kwargs& kwargs, std::string function,
                    std::initializer_list<const std::vector<std::string>*> known)
@@ -217,6 +217,9 @@ void adapt_options_from(Keywords& k, remesh::AdaptOptions& o) {
   const double max_memory_mb = k.take_double("max_memory", 0);
   if (!(max_memory_mb >= 0)) throw py::value_error(k.function() + "(): max_memory expects megabytes >= 0");
   o.memory_limit = max_memory_mb * 1e6;
+  o.max_growth = k.take_double("max_growth", o.max_growth);
+  if (!(o.max_growth >= 0) || !std::isfinite(o.max_growth))
+    throw py::value_error(k.function() + "(): max_growth expects a factor >= 0 (0: no limit)");
   o.remesh.measure_every_pass = k.take_bool("measure_every_pass", false);
   if (!(o.remesh.op.lmin > 0) || !(o.remesh.op.lmax > o.remesh.op.lmin))
     throw py::value_error(k.function() + "(): need 0 < lmin < lmax");
