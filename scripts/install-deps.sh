@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(cmake ninja-build g++ pkg-config libeigen3-dev libtinygltf-dev doctest-dev
-          libmuparser-dev nlohmann-json3-dev python3)
+          libmuparser-dev nlohmann-json3-dev python3 zlib1g-dev)
 if [[ "${1:-}" != "--no-gl" ]]; then
   packages+=(libglfw3-dev libglm-dev libimgui-dev libosmesa6-dev libstb-dev libgl-dev xvfb xauth fonts-dejavu-core)
 fi
