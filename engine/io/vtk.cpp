@@ -259,10 +259,10 @@ std::vector<double> LegacyVtkReader::values(long long n, std::string_view type_n
   LegacyType type;
   if (!legacy_type(type_name, type))
     r_.fail_expected("a data type (float, double, int, unsigned_char ...)", type_name);
+  r_.set_binary(binary_);
   r_.check_fits(n, binary_ ? legacy_size(type) : 2, what);
   std::vector<double> v;
   v.reserve(static_cast<std::size_t>(n));
-  r_.set_binary(binary_);
   for (long long i = 0; i < n; ++i) {
     double x = 0;
     if (!binary_) {

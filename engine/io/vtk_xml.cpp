@@ -295,6 +295,8 @@ class VtkXmlReader {
                            bool base64, std::size_t appended_offset);
   std::uint64_t header_uint(const std::string& bytes, std::size_t index) const;
   long long count_attribute(const XmlElement& e, const char* key, bool required) const;
+  // Fails unless the cell end offsets increase up to n_conn.
+  void check_offsets(const XmlElement& e, const DataArray& offsets, long long n_conn, const std::string& what) const;
   void read_cells_vtu(const XmlElement& piece, long long n_points, long long n_cells, MeshData& d,
                       std::vector<std::pair<int, int>>& cell_items, long long base);
   void read_cells_vtp(const XmlElement& piece, long long n_points, MeshData& d,
@@ -377,16 +379,18 @@ std::string VtkXmlReader::decode_block(std::string_view source, const XmlElement
     bytes.append(source.substr(bytes.size(), need));
     return true;
   };
+  const std::string* name_attr = e.attribute("Name");
+  const std::string name = "data array '" + (name_attr ? *name_attr : std::string()) + "'";
   auto truncated = [&](const std::string& what) -> void {
-    if (where == std::string::npos) fail(e, "data array '" + e.name + "': truncated or invalid base64, expected " + what);
-    fail_byte(where, "truncated appended data, expected " + what);
+    if (where == std::string::npos) fail(e, name + ": truncated or invalid base64, expected " + what);
+    fail_byte(where, name + ": truncated appended data, expected " + what);
   };
   const std::size_t hb = static_cast<std::size_t>(header_bytes_);
   if (!compressed_) {
     if (!take(hb)) truncated("the array's size header");
     const std::uint64_t n = header_uint(bytes, 0);
     if (n != expected_bytes)
-      fail(e, "data array of " + std::to_string(n) + " bytes, expected " + std::to_string(expected_bytes));
+      fail(e, name + " of " + std::to_string(n) + " bytes, expected " + std::to_string(expected_bytes));
     if (!take(hb + expected_bytes)) truncated(std::to_string(expected_bytes) + " bytes of data");
     return bytes.substr(hb, expected_bytes);
   }
@@ -395,7 +399,7 @@ std::string VtkXmlReader::decode_block(std::string_view source, const XmlElement
   const std::uint64_t last_size = last == 0 ? block : last;
   const std::uint64_t total = n_blocks == 0 ? 0 : (n_blocks - 1) * block + last_size;
   if (block == 0 || block > (1ULL << 40) || n_blocks > expected_bytes + 1 || total != expected_bytes)
-    fail(e, "compression header gives " + std::to_string(n_blocks) + " blocks of " + std::to_string(block) +
+    fail(e, name + ": compression header gives " + std::to_string(n_blocks) + " blocks of " + std::to_string(block) +
                 " bytes (last " + std::to_string(last) + "), expected " + std::to_string(expected_bytes) + " bytes");
   if (!take((3 + n_blocks) * hb)) truncated("the compressed block sizes");
   std::uint64_t compressed = 0;
@@ -412,7 +416,7 @@ std::string VtkXmlReader::decode_block(std::string_view source, const XmlElement
     const std::uint64_t c = header_uint(bytes, 3 + b);
     const std::uint64_t size = b + 1 == n_blocks ? last_size : block;
     if (!zlib_inflate_block(std::string_view(bytes).substr(at, c), size, out))
-      fail(e, "zlib block " + std::to_string(b) + " is corrupt, expected " + std::to_string(size) + " bytes from it");
+      fail(e, name + ": zlib block " + std::to_string(b) + " is corrupt, expected " + std::to_string(size) + " bytes from it");
     at += c;
   }
   return out;
@@ -506,6 +510,19 @@ void VtkXmlReader::read_header() {
   }
 }
 
+void VtkXmlReader::check_offsets(const XmlElement& e, const DataArray& offsets, long long n_conn,
+                                 const std::string& what) const {
+  double prev = 0;
+  for (std::size_t i = 0; i < offsets.values.size(); ++i) {
+    const double end = offsets.values[i];
+    if (!(end >= prev && end <= static_cast<double>(n_conn)))
+      fail(e, what + "offset " + std::to_string(static_cast<long long>(end)) + " of cell " + std::to_string(i) +
+                  " out of order, expected " + std::to_string(static_cast<long long>(prev)) + ".." +
+                  std::to_string(n_conn));
+    prev = end;
+  }
+}
+
 void add_skipped(std::map<std::string, long long>& skipped, const std::string& what) { ++skipped[what]; }
 
 void VtkXmlReader::read_cells_vtu(const XmlElement& piece, long long n_points, long long n_cells, MeshData& d,
@@ -533,13 +550,11 @@ void VtkXmlReader::read_cells_vtu(const XmlElement& piece, long long n_points, l
   const long long n_conn = n_cells == 0 ? 0 : static_cast<long long>(o.values.back());
   if (n_conn < 0 || static_cast<unsigned long long>(n_conn) > data_.size() * kZlibMaxRatio)
     fail(*offs, "last offset " + std::to_string(n_conn) + " impossible, expected the connectivity size");
+  check_offsets(*offs, o, n_conn, "");
   const DataArray conn_a = read_array(*conn, n_conn, 1);
   long long prev = 0;
   for (long long i = 0; i < n_cells; ++i) {
     const auto end = static_cast<long long>(o.values[static_cast<std::size_t>(i)]);
-    if (end < prev || end > n_conn)
-      fail(*offs, "offset " + std::to_string(end) + " of cell " + std::to_string(i) + " out of order, expected " +
-                      std::to_string(prev) + ".." + std::to_string(n_conn));
     const long long size = end - prev;
     std::vector<int> ids;
     for (long long k = prev; k < end; ++k) {
@@ -589,14 +604,12 @@ void VtkXmlReader::read_cells_vtp(const XmlElement& piece, long long n_points, M
     const long long n_conn = n == 0 ? 0 : static_cast<long long>(o.values.back());
     if (n_conn < 0 || static_cast<unsigned long long>(n_conn) > data_.size() * kZlibMaxRatio)
       fail(*offs, "last offset " + std::to_string(n_conn) + " impossible, expected the connectivity size");
+    const std::string what = section;
+    check_offsets(*offs, o, n_conn, what + " ");
     const DataArray c = read_array(*conn, n_conn, 1);
     long long prev = 0;
-    const std::string what = section;
     for (long long i = 0; i < n; ++i) {
       const auto end = static_cast<long long>(o.values[static_cast<std::size_t>(i)]);
-      if (end < prev || end > n_conn)
-        fail(*offs, what + " offset " + std::to_string(end) + " of cell " + std::to_string(i) +
-                        " out of order, expected " + std::to_string(prev) + ".." + std::to_string(n_conn));
       std::vector<int> ids;
       for (long long k = prev; k < end; ++k) {
         const double v = c.values[static_cast<std::size_t>(k)];
