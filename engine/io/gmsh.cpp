@@ -13,9 +13,11 @@
 // Writing: node tags 1..n in vertex order; element tags in the order
 // triangles, edges, corners. 4.1: one surface entity per triangle ref, one
 // curve entity per edge ref, one point entity per corner, with the ref as
-// physical tag (none for ref 0); each node in the block of the first entity
-// using it. 2.2: tags "physical elementary". Fields as $NodeData (scalars,
-// vectors padded to 3 components, tensors as 9 components).
+// physical tag (none for ref 0); each node classified on the first entity
+// using it, the node blocks being the runs of consecutive nodes of one entity
+// (nodes in tag order). 2.2: tags "physical elementary". Fields as $NodeData (scalars,
+// vectors padded to 3 components, tensors as 9 components), the nodes in the
+// order of $Nodes.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -567,6 +569,7 @@ struct Entity {
 
 struct MshLayout {
   std::vector<Entity> entities;  // surfaces, curves, points (element order)
+  std::vector<int> owner;        // per vertex: the entity whose node block holds it
 };
 
 // One entity per distinct ref (surfaces and curves), one point per corner;
@@ -590,19 +593,24 @@ MshLayout msh_layout(const MeshData& d) {
     l.entities.push_back({0, static_cast<int>(i + 1), ref, {static_cast<int>(i)}, {}});
   }
   if (l.entities.empty() && !d.vertices.empty()) l.entities.push_back({2, 1, 0, {}, {}});
-  std::vector<char> placed(d.vertices.size(), 0);
-  for (Entity& e : l.entities)
+  l.owner.assign(d.vertices.size(), -1);
+  for (std::size_t i = 0; i < l.entities.size(); ++i) {
+    Entity& e = l.entities[i];
     for (int el : e.elements) {
       const auto k = static_cast<std::size_t>(el);
       const int* vs = e.dim == 2 ? d.triangles[k].data() : e.dim == 1 ? d.edges[k].data() : &d.corners[k];
       for (int j = 0; j < (e.dim == 0 ? 1 : e.dim + 1); ++j)
-        if (!placed[static_cast<std::size_t>(vs[j])]) {
-          placed[static_cast<std::size_t>(vs[j])] = 1;
+        if (l.owner[static_cast<std::size_t>(vs[j])] < 0) {
+          l.owner[static_cast<std::size_t>(vs[j])] = static_cast<int>(i);
           e.nodes.push_back(vs[j]);
         }
     }
-  for (std::size_t v = 0; v < placed.size(); ++v)
-    if (!placed[v]) l.entities.front().nodes.push_back(static_cast<int>(v));
+  }
+  for (std::size_t v = 0; v < l.owner.size(); ++v)
+    if (l.owner[v] < 0) {
+      l.owner[v] = 0;
+      l.entities.front().nodes.push_back(static_cast<int>(v));
+    }
   return l;
 }
 
@@ -659,29 +667,35 @@ void write_entities_v4(MshWriter& w, const MeshData& d, const MshLayout& l, bool
   w.text("$EndEntities\n");
 }
 
+// Node blocks: runs of consecutive vertices owned by the same entity, so that
+// the nodes come in tag order (1..n) and each sits in its entity's block.
 void write_nodes_v4(MshWriter& w, const MeshData& d, const MshLayout& l, bool binary) {
   w.text("$Nodes\n");
-  long long blocks = 0;
-  for (const Entity& e : l.entities) blocks += !e.nodes.empty();
-  const auto nv = static_cast<long long>(d.vertices.size());
-  w.size(blocks);
-  w.size(nv);
+  const std::size_t nv = d.vertices.size();
+  std::vector<std::pair<std::size_t, std::size_t>> runs;  // [first, end)
+  for (std::size_t v = 0; v < nv; ++v)
+    if (runs.empty() || l.owner[v] != l.owner[runs.back().first])
+      runs.push_back({v, v + 1});
+    else
+      runs.back().second = v + 1;
+  w.size(static_cast<long long>(runs.size()));
+  w.size(static_cast<long long>(nv));
   w.size(nv ? 1 : 0);
-  w.size(nv);
+  w.size(static_cast<long long>(nv));
   w.end_line();
-  for (const Entity& e : l.entities) {
-    if (e.nodes.empty()) continue;
+  for (const auto& [first, end] : runs) {
+    const Entity& e = l.entities[static_cast<std::size_t>(l.owner[first])];
     w.int32(e.dim);
     w.int32(e.tag);
     w.int32(0);
-    w.size(static_cast<long long>(e.nodes.size()));
+    w.size(static_cast<long long>(end - first));
     w.end_line();
-    for (int v : e.nodes) {
-      w.size(v + 1);
+    for (std::size_t v = first; v < end; ++v) {
+      w.size(static_cast<long long>(v) + 1);
       w.end_line();
     }
-    for (int v : e.nodes) {
-      const Vec3& p = d.vertices[static_cast<std::size_t>(v)];
+    for (std::size_t v = first; v < end; ++v) {
+      const Vec3& p = d.vertices[v];
       w.real(p.x);
       w.real(p.y);
       w.real(p.z);
@@ -774,6 +788,8 @@ void write_elements_v2(MshWriter& w, const MeshData& d, const MshLayout& l, bool
   w.text("$EndElements\n");
 }
 
+// $NodeData of every field, the nodes in tag order (the order of $Nodes: some
+// readers take the values in that order whatever their tags).
 void write_node_data(MshWriter& w, const MeshData& d, bool binary) {
   for (const FieldData& f : d.fields) {
     const int nc = layout_components(f.info);

@@ -171,7 +171,10 @@ bool legacy_type(std::string_view s, LegacyType& t) {
       {"short", LegacyType::Int16},        {"unsigned_short", LegacyType::UInt16}, {"int", LegacyType::Int32},
       {"unsigned_int", LegacyType::UInt32}, {"long", LegacyType::Int64},        {"unsigned_long", LegacyType::UInt64},
       {"vtktypeint64", LegacyType::Int64}, {"vtktypeuint64", LegacyType::UInt64}, {"vtkIdType", LegacyType::Int64},
-      {"float", LegacyType::Float32},      {"double", LegacyType::Float64}};
+      {"float", LegacyType::Float32},      {"double", LegacyType::Float64},     {"vtktypeint8", LegacyType::Int8},
+      {"vtktypeuint8", LegacyType::UInt8}, {"vtktypeint16", LegacyType::Int16}, {"vtktypeuint16", LegacyType::UInt16},
+      {"vtktypeint32", LegacyType::Int32}, {"vtktypeuint32", LegacyType::UInt32},
+      {"vtktypefloat32", LegacyType::Float32}, {"vtktypefloat64", LegacyType::Float64}};
   for (const auto& [n, v] : names)
     if (s == n) {
       t = v;
