@@ -1,5 +1,7 @@
 #include "io/field_layout.h"
 
+#include <cmath>
+
 #include "core/error.h"
 
 namespace anisurf::io {
@@ -63,6 +65,12 @@ bool field_from_layout(const std::string& name, int ncomp, const std::vector<dou
 std::string asymmetric_warning(const std::string& path, const std::string& name, long long count) {
   return path + ": field '" + name + "': " + std::to_string(count) +
          " non-symmetric 3x3 tensors made symmetric ((A + A^T) / 2), expected symmetric tensors (metrics)";
+}
+
+bool int_from_double(double v, int& out) {
+  if (!(v >= -2147483648.0 && v <= 2147483647.0) || v != std::floor(v)) return false;
+  out = static_cast<int>(v);
+  return true;
 }
 
 void check_for_writing(const std::string& path, const MeshData& d, bool layout_only) {

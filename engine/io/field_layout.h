@@ -34,6 +34,10 @@ bool field_from_layout(const std::string& name, int ncomp, const std::vector<dou
 // The warning about `count` non-symmetric tensors of field `name` (averaged).
 std::string asymmetric_warning(const std::string& path, const std::string& name, long long count);
 
+// The int of an integral double within the int range; false otherwise
+// (integer arrays of text files may hold anything).
+bool int_from_double(double v, int& out);
+
 // Refuses (IoError "path: cannot write: ...") vertex ids out of range, refs
 // and fields of the wrong size; fields must fit the 1/3/9 layout when
 // `layout_only`.

@@ -255,6 +255,7 @@ std::vector<std::string_view> LegacyVtkReader::header_line() {
 long long LegacyVtkReader::count(std::string_view t, const char* what) {
   long long v = 0;
   if (!parse_integer(t, v) || v < 0) r_.fail_expected(what, t);
+  if (v > (1LL << 40)) r_.fail(std::string(what) + " " + std::to_string(v) + " impossible, expected at most 2^40");
   return v;
 }
 
@@ -296,7 +297,7 @@ std::vector<std::vector<int>> LegacyVtkReader::cells(long long n, long long size
   std::vector<std::vector<int>> out;
   auto point_id = [&](double v) {
     if (!(v >= 0 && v < static_cast<double>(n_points_)))
-      r_.fail(std::string(section) + ": point id " + std::to_string(static_cast<long long>(v)) +
+      r_.fail(std::string(section) + ": point id " + format_double(v) +
               " out of range, expected 0.." + std::to_string(n_points_ - 1));
     return static_cast<int>(v);
   };
@@ -442,7 +443,10 @@ MeshData LegacyVtkReader::read() {
       if (n != static_cast<long long>(ug_cells_.size()))
         r_.fail("CELL_TYPES " + std::to_string(n) + ", expected " + std::to_string(ug_cells_.size()) + " (the CELLS count)");
       r_.skip_space();
-      for (double t : values(n, "int", "cell type")) ug_types_.push_back(static_cast<int>(t));
+      for (double t : values(n, "int", "cell type")) {
+        int type = -1;
+        ug_types_.push_back(int_from_double(t, type) ? type : -1);
+      }
     } else if (kw == "POINT_DATA" || kw == "CELL_DATA") {
       if (args.size() != 1) r_.fail("expected '" + std::string(kw) + " <n>'");
       cell_target_ = kw == "CELL_DATA";
@@ -512,7 +516,10 @@ void LegacyVtkReader::finish(MeshData& d) {
     d.edge_refs.assign(d.edges.size(), 0);
     std::size_t t = 0, e = 0;
     for (std::size_t i = 0; i < items.size(); ++i) {
-      const int ref = static_cast<int>(a.values[i]);
+      int ref = 0;
+      if (!int_from_double(a.values[i], ref))
+        throw IoError(path + ": CELL_DATA " + a.name + ": reference " + format_double(a.values[i]) +
+                      ", expected an integer of the int range");
       if (items[i].first == 1) d.triangle_refs[t++] = ref;
       if (items[i].first == 2)
         for (int k = 0; k < items[i].second; ++k) d.edge_refs[e++] = ref;
@@ -523,7 +530,13 @@ void LegacyVtkReader::finish(MeshData& d) {
       throw IoError(path + ": POINT_DATA " + a.name + " has " + std::to_string(a.values.size()) + " values, expected " +
                     std::to_string(d.vertices.size()) + " x " + std::to_string(a.ncomp) + " (the points)");
     if ((a.name == "vertex_ref" || a.name == "medit:ref") && a.integer && a.ncomp == 1 && d.vertex_refs.empty()) {
-      for (double v : a.values) d.vertex_refs.push_back(static_cast<int>(v));
+      for (double v : a.values) {
+        int ref = 0;
+        if (!int_from_double(v, ref))
+          throw IoError(path + ": POINT_DATA " + a.name + ": reference " + format_double(v) +
+                        ", expected an integer of the int range");
+        d.vertex_refs.push_back(ref);
+      }
       continue;
     }
     FieldData f;

@@ -295,6 +295,10 @@ class VtkXmlReader {
                            bool base64, std::size_t appended_offset);
   std::uint64_t header_uint(const std::string& bytes, std::size_t index) const;
   long long count_attribute(const XmlElement& e, const char* key, bool required) const;
+  // The connectivity size: the last end offset (0 without cells), checked.
+  long long connectivity_size(const XmlElement& e, const DataArray& offsets) const;
+  // A reference of an integer array: an int, or a failure naming the array.
+  int ref_value(const XmlElement& e, double v) const;
   // Fails unless the cell end offsets increase up to n_conn.
   void check_offsets(const XmlElement& e, const DataArray& offsets, long long n_conn, const std::string& what) const;
   void read_cells_vtu(const XmlElement& piece, long long n_points, long long n_cells, MeshData& d,
@@ -510,6 +514,19 @@ void VtkXmlReader::read_header() {
   }
 }
 
+long long VtkXmlReader::connectivity_size(const XmlElement& e, const DataArray& offsets) const {
+  const double last = offsets.values.empty() ? 0.0 : offsets.values.back();
+  if (!(last >= 0 && last <= static_cast<double>(data_.size()) * kZlibMaxRatio))
+    fail(e, "last offset " + format_double(last) + " impossible, expected the connectivity size");
+  return static_cast<long long>(last);
+}
+
+int VtkXmlReader::ref_value(const XmlElement& e, double v) const {
+  int r = 0;
+  if (!int_from_double(v, r)) fail(e, "reference " + format_double(v) + ", expected an integer of the int range");
+  return r;
+}
+
 void VtkXmlReader::check_offsets(const XmlElement& e, const DataArray& offsets, long long n_conn,
                                  const std::string& what) const {
   double prev = 0;
@@ -547,9 +564,7 @@ void VtkXmlReader::read_cells_vtu(const XmlElement& piece, long long n_points, l
   if (!conn || !offs || !types) fail(c, "<Cells> without connectivity, offsets and types arrays");
   const DataArray o = read_array(*offs, n_cells, 1);
   const DataArray t = read_array(*types, n_cells, 1);
-  const long long n_conn = n_cells == 0 ? 0 : static_cast<long long>(o.values.back());
-  if (n_conn < 0 || static_cast<unsigned long long>(n_conn) > data_.size() * kZlibMaxRatio)
-    fail(*offs, "last offset " + std::to_string(n_conn) + " impossible, expected the connectivity size");
+  const long long n_conn = connectivity_size(*offs, o);
   check_offsets(*offs, o, n_conn, "");
   const DataArray conn_a = read_array(*conn, n_conn, 1);
   long long prev = 0;
@@ -560,11 +575,12 @@ void VtkXmlReader::read_cells_vtu(const XmlElement& piece, long long n_points, l
     for (long long k = prev; k < end; ++k) {
       const double v = conn_a.values[static_cast<std::size_t>(k)];
       if (!(v >= 0 && v < static_cast<double>(n_points)))
-        fail(*conn, "cell " + std::to_string(i) + ": point id " + std::to_string(static_cast<long long>(v)) +
+        fail(*conn, "cell " + std::to_string(i) + ": point id " + format_double(v) +
                         " out of range, expected 0.." + std::to_string(n_points - 1));
       ids.push_back(static_cast<int>(v + static_cast<double>(base)));
     }
-    const int type = static_cast<int>(t.values[static_cast<std::size_t>(i)]);
+    int type = -1;
+    if (!int_from_double(t.values[static_cast<std::size_t>(i)], type)) type = -1;
     if ((type == 5 || type == 7) && size == 3) {
       cell_items.push_back({1, 1});
       d.triangles.push_back({ids[0], ids[1], ids[2]});
@@ -601,9 +617,7 @@ void VtkXmlReader::read_cells_vtp(const XmlElement& piece, long long n_points, M
     }
     if (!conn || !offs) fail(sec, std::string("<") + section + "> without connectivity and offsets arrays");
     const DataArray o = read_array(*offs, n, 1);
-    const long long n_conn = n == 0 ? 0 : static_cast<long long>(o.values.back());
-    if (n_conn < 0 || static_cast<unsigned long long>(n_conn) > data_.size() * kZlibMaxRatio)
-      fail(*offs, "last offset " + std::to_string(n_conn) + " impossible, expected the connectivity size");
+    const long long n_conn = connectivity_size(*offs, o);
     const std::string what = section;
     check_offsets(*offs, o, n_conn, what + " ");
     const DataArray c = read_array(*conn, n_conn, 1);
@@ -614,7 +628,7 @@ void VtkXmlReader::read_cells_vtp(const XmlElement& piece, long long n_points, M
       for (long long k = prev; k < end; ++k) {
         const double v = c.values[static_cast<std::size_t>(k)];
         if (!(v >= 0 && v < static_cast<double>(n_points)))
-          fail(*conn, what + " cell " + std::to_string(i) + ": point id " + std::to_string(static_cast<long long>(v)) +
+          fail(*conn, what + " cell " + std::to_string(i) + ": point id " + format_double(v) +
                           " out of range, expected 0.." + std::to_string(n_points - 1));
         ids.push_back(static_cast<int>(v + static_cast<double>(base)));
       }
@@ -650,7 +664,7 @@ void VtkXmlReader::read_point_data(const XmlElement& piece, long long n_points, 
     if ((a.name == "vertex_ref" || a.name == "medit:ref") && a.ncomp == 1 && is_integer(a.type)) {
       d.vertex_refs.resize(base + static_cast<std::size_t>(n_points), 0);
       for (long long i = 0; i < n_points; ++i)
-        d.vertex_refs[base + static_cast<std::size_t>(i)] = static_cast<int>(a.values[static_cast<std::size_t>(i)]);
+        d.vertex_refs[base + static_cast<std::size_t>(i)] = ref_value(e, a.values[static_cast<std::size_t>(i)]);
       continue;
     }
     FieldData f;
@@ -709,7 +723,7 @@ void VtkXmlReader::read_cell_data(const XmlElement& piece, long long n_cells, Me
       have_refs = true;
       std::size_t t = tri_base, ed = edge_base;
       for (std::size_t i = 0; i < cell_items.size(); ++i) {
-        const int ref = static_cast<int>(a.values[i]);
+        const int ref = ref_value(e, a.values[i]);
         if (cell_items[i].first == 1) d.triangle_refs[t++] = ref;
         if (cell_items[i].first == 2)
           for (int j = 0; j < cell_items[i].second; ++j) d.edge_refs[ed++] = ref;
