@@ -517,8 +517,10 @@ MeshData MshReader::read() {
 class MshWriter {
  public:
   explicit MshWriter(bool binary) : binary_(binary) {}
+  // Text written as is (section keywords, the text headers of a section).
   void text(std::string_view s) { b_ += s; }
-  // Ends a text line that binary data follows.
+  // Values: int (4 bytes), size_t (8 bytes) and double in binary; decimal
+  // words separated by blanks in ASCII (doubles shortest exact).
   void int32(long long v) {
     if (binary_) raw(static_cast<std::int32_t>(v));
     else word(std::to_string(v));

@@ -17,6 +17,7 @@
 // (XX YY ZZ XY YZ XZ) tensor fields, FIELD arrays by their component count
 // (1 scalar, 3 vector, 6 and 9 tensor as above). Lookup tables, colors,
 // texture coordinates and METADATA are skipped.
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -555,6 +556,10 @@ void LegacyVtkReader::finish(MeshData& d) {
       continue;
     }
     if (asymmetric > 0) d.warnings.push_back(asymmetric_warning(path, a.name, asymmetric));
+    if (std::any_of(d.fields.begin(), d.fields.end(), [&](const FieldData& g) { return g.info.name == a.name; })) {
+      d.warnings.push_back(path + ": skipped a second point array " + a.name);
+      continue;
+    }
     d.fields.push_back(std::move(f));
   }
   for (std::string& w : warnings_) d.warnings.push_back(std::move(w));

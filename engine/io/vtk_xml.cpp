@@ -183,12 +183,15 @@ void XmlDocument::parse() {
       if (lt == std::string::npos || lt >= end_)
         fail_at(p, "unexpected end of file, expected </" + element(open.back()).name + ">");
       p = lt;
+    } else if (p >= end_ || d_[p] != '<') {
+      fail_at(p, "expected an XML element '<VTKFile ...>'");
     }
     if (d_.compare(p, 4, "<!--") == 0 || d_.compare(p, 2, "<?") == 0) {
       p = skip_misc(p);
       continue;
     }
     if (d_.compare(p, 2, "</") == 0) {
+      if (open.empty()) fail_at(p, "closing tag before any element, expected '<VTKFile ...>'");
       const std::size_t gt = d_.find('>', p);
       if (gt == std::string::npos || gt >= end_) fail_at(p, "closing tag without '>'");
       std::string name = d_.substr(p + 2, gt - p - 2);
@@ -348,8 +351,12 @@ void VtkXmlReader::locate_appended() {
 
 std::uint64_t VtkXmlReader::header_uint(const std::string& bytes, std::size_t index) const {
   const char* p = bytes.data() + index * static_cast<std::size_t>(header_bytes_);
-  return header_bytes_ == 4 ? static_cast<std::uint64_t>(load<std::uint32_t>(p, swap_))
-                            : static_cast<std::uint64_t>(load<std::uint64_t>(p, swap_));
+  std::uint64_t v = 0;
+  for (int i = 0; i < header_bytes_; ++i) {
+    const auto byte = static_cast<unsigned char>(p[swap_ == host_is_little_endian() ? i : header_bytes_ - 1 - i]);
+    v = (v << 8) | byte;
+  }
+  return v;
 }
 
 long long VtkXmlReader::count_attribute(const XmlElement& e, const char* key, bool required) const {
