@@ -319,7 +319,7 @@ bool embeds_fields(const std::string& out) { return format_embeds_fields(mesh_fo
 // The adapted mesh with the metric, --interpolate's fields and the other
 // fields the mesh carried through adaptation (those of IN's own file; a
 // field named "metric" among them is replaced by the adapted metric).
-MeshData with_fields(const SurfaceMesh& t1, std::vector<FieldData> metric, std::vector<FieldData> interpolated) {
+MeshData mesh_with_fields(const SurfaceMesh& t1, std::vector<FieldData> metric, std::vector<FieldData> interpolated) {
   MeshData d = to_mesh_data(t1);
   std::vector<FieldData> fields = std::move(metric);
   for (FieldData& f : interpolated) fields.push_back(std::move(f));
@@ -353,7 +353,7 @@ void write_adapt_outputs(const AdaptCommandLine& c, const remesh::AdaptResult& r
     interpolated.push_back(std::move(f));
   }
   if (embeds_fields(c.out)) {
-    write_mesh_data(outputs.temporary(c.out), with_fields(t1, std::move(metric), std::move(interpolated)));
+    write_mesh_data(outputs.temporary(c.out), mesh_with_fields(t1, std::move(metric), std::move(interpolated)));
     outputs.commit();
     return;
   }
