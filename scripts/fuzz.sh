@@ -5,7 +5,7 @@
 # build-fuzz/artifacts/READER/: copy each into tests/fuzz/corpus/READER/ once
 # fixed, the replay test then keeps it fixed).
 # Usage: scripts/fuzz.sh [--seconds N] [READER ...]  (readers: medit meshb sol
-# solb obj off ply stl gltf glb; default all)
+# solb obj off ply stl gltf glb msh vtu vtp vtk; default all)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=60
@@ -17,9 +17,9 @@ while [[ $# -gt 0 ]]; do
     *) readers+=("$1"); shift ;;
   esac
 done
-[[ ${#readers[@]} -gt 0 ]] || readers=(medit meshb sol solb obj off ply stl gltf glb)
+[[ ${#readers[@]} -gt 0 ]] || readers=(medit meshb sol solb obj off ply stl gltf glb msh vtu vtp vtk)
 declare -A extension=([medit]=mesh [meshb]=meshb [sol]=sol [solb]=solb [obj]=obj [off]=off [ply]=ply [stl]=stl
-                      [gltf]=gltf [glb]=glb)
+                      [gltf]=gltf [glb]=glb [msh]=msh [vtu]=vtu [vtp]=vtp [vtk]=vtk)
 for r in "${readers[@]}"; do
   [[ -n "${extension[$r]:-}" ]] || { echo "fuzz: unknown reader '$r'" >&2; exit 2; }
 done

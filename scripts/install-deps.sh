@@ -9,6 +9,7 @@ packages=(cmake ninja-build g++ pkg-config libeigen3-dev libtinygltf-dev doctest
 if [[ "${1:-}" != "--no-gl" ]]; then
   packages+=(libglfw3-dev libglm-dev libimgui-dev libosmesa6-dev libstb-dev libgl-dev xvfb xauth fonts-dejavu-core)
 fi
+packages+=(zlib1g-dev)  # zlib-compressed VTK XML data arrays (engine/io/vtk_xml_encoding.cpp)
 
 missing=()
 for p in "${packages[@]}"; do

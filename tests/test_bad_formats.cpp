@@ -1,12 +1,14 @@
-// Broken OBJ / OFF / PLY / STL / glTF files (tests/data/bad/bad_{obj,off,ply,
-// stl,gltf}_*): read_mesh_data refuses each with an IoError that names the
-// file, the place (line for text, byte for binary) and what was expected.
-// The binary ones come from tests/data/fmt_generate.py.
+// Broken OBJ / OFF / PLY / STL / glTF / Gmsh / VTK files (tests/data/bad/
+// bad_{obj,off,ply,stl,gltf,msh,vtu,vtp,vtk}_*): read_mesh_data refuses each
+// with an IoError that names the file, the place (line for text, byte for
+// binary) and what was expected. The binary ones come from
+// tests/data/fmt_generate.py and tests/data/fmt_generate_vtk.py.
 #include <doctest/doctest.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "core/error.h"
 #include "io/mesh_io.h"
@@ -47,11 +49,27 @@ const BadCase kBad[] = {
     {"bad_gltf_accessor_range.gltf", "accessor 0", "exceed buffer view 0"},
     {"bad_gltf_truncated.glb", "byte 8", "expected the whole file"},
     {"bad_gltf_version.glb", "byte 4", "expected 2"},
+    {"bad_msh_version.msh", ":2:", "expected MSH version 2.2 or 4.1, found '3.0'"},
+    {"bad_msh_node_tag.msh", "element 2", "node tag 9 not in $Nodes"},
+    {"bad_msh_nan.msh", ":11:", "node y coordinate is not a finite number"},
+    {"bad_msh_missing_end.msh", ":9:", "expected '$EndNodes', found '4'"},
+    {"bad_msh_truncated.msh", "byte 55", "node count 3 impossible"},
+    {"bad_msh_huge_count.msh", ":6:", "node count 2000000000 impossible"},
+    {"bad_vtu_appended_size.vtu", ":15:", "data array 'connectivity' of 56 bytes, expected 48"},
+    {"bad_vtu_index_range.vtu", ":9:", "point id 7 out of range, expected 0..2"},
+    {"bad_vtu_xml.vtu", ":7:", "expected </Points>, found </Cells>"},
+    {"bad_vtu_zlib_block.vtu", ":7:", "zlib block 0 is corrupt"},
+    {"bad_vtp_huge_count.vtp", ":4:", "NumberOfPoints 2000000000000 impossible"},
+    {"bad_vtp_offsets.vtp", ":10:", "Polys offset 6 of cell 0 out of order"},
+    {"bad_vtk_huge_count.vtk", ":5:", "point coordinate count 6000000000 impossible"},
+    {"bad_vtk_index_range.vtk", ":8:", "POLYGONS: point id 3 out of range, expected 0..2"},
+    {"bad_vtk_keyword.vtk", ":7:", "expected a legacy VTK keyword"},
+    {"bad_vtk_truncated.vtk", "byte 137", "cell entry count 3 impossible"},
 };
 
 }  // namespace
 
-TEST_CASE("bad formats: each broken OBJ/OFF/PLY/STL/glTF file gives an IoError with file, place and expectation") {
+TEST_CASE("bad formats: each broken OBJ/OFF/PLY/STL/glTF/MSH/VTK file gives an IoError with file, place and expectation") {
   for (const BadCase& c : kBad) {
     const std::string file = c.file;
     CAPTURE(file);
@@ -71,13 +89,14 @@ TEST_CASE("bad formats: each broken OBJ/OFF/PLY/STL/glTF file gives an IoError w
   }
 }
 
-TEST_CASE("bad formats: every bad_{obj,off,ply,stl,gltf}_* file is covered by the table") {
+TEST_CASE("bad formats: every bad_{obj,off,ply,stl,gltf,msh,vtu,vtp,vtk}_* file is covered by the table") {
   const std::string dir = test::data_file("bad");
   int found = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     const std::string name = entry.path().filename().string();
     bool ours = false;
-    for (const char* prefix : {"bad_obj_", "bad_off_", "bad_ply_", "bad_stl_", "bad_gltf_"})
+    for (const char* prefix :
+         {"bad_obj_", "bad_off_", "bad_ply_", "bad_stl_", "bad_gltf_", "bad_msh_", "bad_vtu_", "bad_vtp_", "bad_vtk_"})
       ours |= name.rfind(prefix, 0) == 0;
     if (!ours) continue;
     ++found;
@@ -118,5 +137,56 @@ TEST_CASE("bad formats: truncating a good binary file at any byte never crashes"
       }
     }
     CHECK(refused == static_cast<int>(size));  // no strict prefix is a valid file here
+  }
+}
+
+TEST_CASE("bad formats: every prefix of binary MSH and VTK files reads or throws IoError") {
+  // The writers' binary layouts and the generated samples, cut at every byte.
+  const auto dir = test::temp_dir("bad_prefix_msh_vtk");
+  std::vector<std::string> sources = {test::data_file("fmt_vtk_zlib_be.vtp"), test::data_file("fmt_vtk_appended.vtu"),
+                                      test::data_file("fmt_legacy_bin.vtk")};
+  MeshData d;
+  d.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  d.triangles = {{0, 1, 2}};
+  d.triangle_refs = {4};
+  FieldData s;
+  s.info = FieldInfo{"s", FieldKind::Scalar, 1};
+  s.values = {1, 2, 3};
+  d.fields.push_back(s);
+  for (int version : {22, 41}) {
+    WriteOptions o;
+    o.msh_version = version;
+    sources.push_back((dir / (version == 22 ? "src22.msh" : "src41.msh")).string());
+    write_mesh_data(sources.back(), d, o);
+  }
+  WriteOptions z;
+  z.vtk_compress = true;
+  sources.push_back((dir / "srcz.vtu").string());
+  write_mesh_data(sources.back(), d, z);
+  for (const std::string& src : sources) {
+    CAPTURE(src);
+    std::string bytes;
+    {
+      std::FILE* f = std::fopen(src.c_str(), "rb");
+      REQUIRE(f);
+      char buf[4096];
+      std::size_t n;
+      while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) bytes.append(buf, n);
+      std::fclose(f);
+    }
+    const std::string cut = (dir / ("cut" + std::filesystem::path(src).extension().string())).string();
+    int refused = 0;
+    for (std::size_t n = 0; n < bytes.size(); ++n) {
+      std::FILE* f = std::fopen(cut.c_str(), "wb");
+      REQUIRE(f);
+      std::fwrite(bytes.data(), 1, n, f);
+      std::fclose(f);
+      try {
+        read_mesh_data(cut);
+      } catch (const IoError&) {
+        ++refused;
+      }
+    }
+    CHECK(refused > static_cast<int>(bytes.size()) / 2);
   }
 }

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "io/mesh_io.h"
 #include "test_util.h"
 
 namespace {
@@ -61,7 +62,7 @@ TEST_CASE("anisurf info --json on the demo") {
 
 TEST_CASE("anisurf convert writes every output format, then reads it back") {
   auto dir = anisurf::test::temp_dir("cli_convert");
-  for (const char* ext : {".mesh", ".meshb", ".obj", ".ply", ".stl", ".glb"}) {
+  for (const char* ext : {".mesh", ".meshb", ".obj", ".ply", ".stl", ".glb", ".msh", ".vtu", ".vtp", ".vtk"}) {
     std::string out = (dir / (std::string("demo") + ext)).string();
     Run r = run_anisurf("convert " + demo_mesh() + " " + out, std::string("convert") + (ext + 1));
     CAPTURE(ext);
@@ -80,6 +81,58 @@ TEST_CASE("anisurf convert writes every output format, then reads it back") {
   Run v = run_anisurf("convert " + demo_mesh() + " " + (dir / "demo.vtk").string() + " --sol " + sol, "convvtk");
   CHECK(v.code == 0);
   CHECK(std::filesystem::file_size(dir / "demo.vtk") > 1000);
+}
+
+TEST_CASE("anisurf convert: .msh and VTK XML options, fields from --sol inside the file") {
+  auto dir = anisurf::test::temp_dir("cli_convert_fields");
+  const std::string sol = std::string(ANISURF_TEST_DATA_DIR) + "/../../assets/demo.sol";
+  const std::pair<const char*, const char*> cases[] = {{"a22.msh", "--msh-version 2.2 --ascii"},
+                                                       {"b41.msh", ""},
+                                                       {"z.vtu", "--zlib --vtk-encoding binary"},
+                                                       {"a.vtp", "--ascii"},
+                                                       {"b64.vtp", "--vtk-encoding appended-base64"}};
+  for (const auto& [file, options] : cases) {
+    CAPTURE(file);
+    const std::string out = (dir / file).string();
+    Run r = run_anisurf("convert " + demo_mesh() + " " + out + " --sol " + sol + " " + options, "convf");
+    CAPTURE(r.err);
+    REQUIRE(r.code == 0);
+    CHECK_FALSE(std::filesystem::exists(std::filesystem::path(out).replace_extension(".sol")));
+    const anisurf::MeshData d = anisurf::read_mesh_data(out);
+    REQUIRE(d.fields.size() == 1);
+    CHECK(d.fields[0].info.kind == anisurf::FieldKind::Tensor);
+    CHECK(d.fields[0].values.size() == 6 * d.vertices.size());
+  }
+  Run bad = run_anisurf("convert " + demo_mesh() + " " + (dir / "x.msh").string() + " --msh-version 3", "convbad");
+  CHECK(bad.code == 2);
+  CHECK(bad.err.find("--msh-version must be 4.1 or 2.2") != std::string::npos);
+  Run zascii = run_anisurf("convert " + demo_mesh() + " " + (dir / "x.vtu").string() + " --zlib --ascii", "convz");
+  CHECK(zascii.code == 2);
+}
+
+TEST_CASE("anisurf adapt IN.msh -o OUT.msh / OUT.vtu: the metric and interpolated fields inside OUT, no .sol") {
+  auto dir = anisurf::test::temp_dir("cli_adapt_embedded");
+  const std::string in = (dir / "in.msh").string();
+  const std::string sol = std::string(ANISURF_TEST_DATA_DIR) + "/../../assets/demo.sol";
+  REQUIRE(run_anisurf("convert " + demo_mesh() + " " + in, "adapt_in").code == 0);
+  for (const char* out_name : {"out.msh", "out.vtu"}) {
+    CAPTURE(out_name);
+    const std::string out = (dir / out_name).string();
+    Run r = run_anisurf("adapt " + in + " --size 0.4 --interpolate " + sol + " -o " + out + " -v 0", "adapt_emb");
+    CAPTURE(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("with the metric and fields inside") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(std::filesystem::path(out).replace_extension(".sol")));
+    CHECK_FALSE(std::filesystem::exists(std::filesystem::path(out).replace_extension(".fields.sol")));
+    const anisurf::MeshData d = anisurf::read_mesh_data(out);
+    REQUIRE(d.fields.size() == 2);
+    CHECK(d.fields[0].info.name == "metric");
+    CHECK(d.fields[0].info.ncomp == 6);
+    CHECK(d.fields[1].info.name == "sol0");
+    CHECK(d.fields[1].values.size() == 6 * d.vertices.size());
+    // Isotropic size 0.4: the metric is 1 / 0.4^2 on the diagonal.
+    CHECK(d.fields[0].values[0] == doctest::Approx(6.25));
+  }
 }
 
 TEST_CASE("bad input: clear message, non-zero exit, no output left behind") {

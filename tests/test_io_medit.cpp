@@ -494,10 +494,13 @@ TEST_CASE("mesh_format_from_path: case-insensitive extensions, clear refusal") {
   } catch (const IoError& e) {
     CHECK(std::string(e.what()) ==
           "dir/file.xyz: unknown mesh format '.xyz', expected one of .mesh .meshb .obj .off .ply .stl .gltf .glb "
-          "(.vtk write only)");
+          ".msh .vtu .vtp .vtk");
   }
   CHECK_THROWS_AS(mesh_format_from_path("noextension"), IoError);
-  CHECK_THROWS_WITH_AS(read_mesh_data("out.vtk"), doctest::Contains("write only"), IoError);
+  CHECK(mesh_format_from_path("x.MSH") == MeshFormat::Gmsh);
+  CHECK(mesh_format_from_path("x.vtu") == MeshFormat::Vtu);
+  CHECK(mesh_format_from_path("x.Vtp") == MeshFormat::Vtp);
+  CHECK_THROWS_WITH_AS(read_mesh_data("out.vtk"), doctest::Contains("out.vtk: cannot open file"), IoError);
   const auto dir = test::temp_dir("medit_dispatch");
   CHECK_THROWS_WITH_AS(write_mesh_data((dir / "x.off").string(), rich_mesh(3)), doctest::Contains("cannot write '.off'"),
                        IoError);

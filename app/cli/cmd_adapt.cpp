@@ -31,7 +31,8 @@ const char* kAdaptHelp =
     "splits of edges longer than lmax, collapses of edges shorter than lmin, swaps on\n"
     "the quality of eq. 17, smoothing (eq. 19), the final optimisation. New and moved\n"
     "vertices are projected onto the input surface (T_G) and take their metric from\n"
-    "the input mesh (T_0). Writes OUT.mesh and its metric OUT.sol (tensors).\n"
+    "the input mesh (T_0). Writes OUT.mesh and its metric OUT.sol (tensors); a .msh,\n"
+    ".vtu, .vtp or .vtk output holds the metric (field \"metric\") and the fields itself.\n"
     "\n"
     "METRIC (one source, as in `anisurf metric`):\n"
     "  --sol S | -sol S     metric tensors or sizes on the vertices of IN\n"
@@ -101,6 +102,7 @@ const char* kAdaptHelp =
     "  --report FILE        per-pass report (JSON)\n"
     "  --interpolate F.sol  a solution on IN's vertices (any fields), interpolated onto\n"
     "                       the output from T_0 (section 6); written to OUT.fields.sol\n"
+    "                       (or into OUT for .msh .vtu .vtp .vtk)\n"
     "  -v N                 verbosity on stderr: 0 quiet, 1 per round (default), 2 per\n"
     "                       pass; at 1 on a terminal, a live line (round, pass, counts,\n"
     "                       vertices against the metric's prediction, op/s) after each pass\n"
@@ -316,13 +318,30 @@ AdaptFiles read_adapt_inputs(AdaptCommandLine& c) {
   return f;
 }
 
+// True when OUT's format carries fields inside (.msh .vtu .vtp .vtk): the
+// metric and the interpolated fields go into OUT itself, not into .sol files.
+bool embeds_fields(const std::string& out) { return format_embeds_fields(mesh_format_from_path(out)); }
+
+// The adapted mesh with the metric, --interpolate's fields and the other
+// fields the mesh carried through adaptation (those of IN's own file; a
+// field named "metric" among them is replaced by the adapted metric).
+MeshData mesh_with_fields(const SurfaceMesh& t1, std::vector<FieldData> metric, std::vector<FieldData> interpolated) {
+  MeshData d = to_mesh_data(t1);
+  std::vector<FieldData> fields = std::move(metric);
+  for (FieldData& f : interpolated) fields.push_back(std::move(f));
+  for (FieldData& f : d.fields)
+    if (f.info.name.rfind(kInterpolatedPrefix, 0) != 0 && f.info.name != "metric") fields.push_back(std::move(f));
+  d.fields = std::move(fields);
+  return d;
+}
+
 // OUT.mesh, OUT.sol (the metric: Mmg reads it) and OUT.fields.sol
-// (--interpolate's fields), written as one set: all or none replaced.
+// (--interpolate's fields), written as one set: all or none replaced; or,
+// for a format with fields inside, OUT alone.
 void write_adapt_outputs(const AdaptCommandLine& c, const remesh::AdaptResult& r,
                          const std::vector<std::string>& interpolated_names, std::string* fields_path) {
   const SurfaceMesh& t1 = r.mesh;
   OutputSet outputs;
-  save_mesh(outputs.temporary(c.out), t1);
   std::vector<FieldData> metric(1);  // one field, written without a copy of its values
   FieldData& mf = metric.front();
   mf.info = FieldInfo{"metric", FieldKind::Tensor, 6};
@@ -339,6 +358,12 @@ void write_adapt_outputs(const AdaptCommandLine& c, const remesh::AdaptResult& r
       f.values.insert(f.values.end(), prop[Vertex(v)].begin(), prop[Vertex(v)].begin() + info.ncomp);
     interpolated.push_back(std::move(f));
   }
+  if (embeds_fields(c.out)) {
+    write_mesh_data(outputs.temporary(c.out), mesh_with_fields(t1, std::move(metric), std::move(interpolated)));
+    outputs.commit();
+    return;
+  }
+  save_mesh(outputs.temporary(c.out), t1);
   write_sol(outputs.temporary(sol_path_for(c.out)), metric, t1.vertex_capacity(), 3);
   if (!interpolated.empty()) {
     *fields_path = fields_path_for(c.out);
@@ -415,8 +440,11 @@ void print_summary(const AdaptCommandLine& c, int cycles, const remesh::AdaptRes
               collapses, swaps, moves, removed);
   std::printf("remeshing    %.2f s, %s operations per second\n", run_seconds,
               format_rate(splits + collapses + swaps + moves + removed, run_seconds).c_str());
-  std::printf("written      %s, %s%s%s (%.2f s)\n", c.out.c_str(), sol_path_for(c.out).c_str(),
-              fields_path.empty() ? "" : ", ", fields_path.c_str(), r.seconds);
+  if (embeds_fields(c.out))
+    std::printf("written      %s, with the metric and fields inside (%.2f s)\n", c.out.c_str(), r.seconds);
+  else
+    std::printf("written      %s, %s%s%s (%.2f s)\n", c.out.c_str(), sol_path_for(c.out).c_str(),
+                fields_path.empty() ? "" : ", ", fields_path.c_str(), r.seconds);
 }
 
 // One line per cycle on stderr (-v >= 1 with --cycles > 1).
@@ -431,7 +459,7 @@ void print_cycle(const remesh::CycleReport& cycle) {
 int run_adapt(const std::vector<std::string>& args) {
   AdaptCommandLine c = parse_adapt(args);
   check_writable(c.out);
-  check_writable(sol_path_for(c.out));
+  if (!embeds_fields(c.out)) check_writable(sol_path_for(c.out));
   // Temporaries of earlier runs into the same outputs that were killed.
   for (const std::string& path : {c.out, sol_path_for(c.out), fields_path_for(c.out)}) remove_stale_temporaries(path);
   const auto t_read = std::chrono::steady_clock::now();

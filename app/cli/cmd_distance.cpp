@@ -26,7 +26,7 @@ const char* kDistanceHelp =
     "bounding box diagonal, and where the largest distance is (the sample, its\n"
     "element numbered as in OUT's file, and its closest point on REF). The figures are\n"
     "those of ../shared/bench/surfdist.py. Both files in any format anisurf reads\n"
-    "(.mesh .meshb .obj .off .ply .stl .gltf .glb).\n"
+    "(.mesh .meshb .obj .off .ply .stl .gltf .glb .msh .vtu .vtp .vtk).\n"
     "\n"
     "options:\n"
     "  --weld TOL    merge vertices closer than TOL x the bounding box diagonal in both\n"

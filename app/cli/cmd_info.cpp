@@ -18,7 +18,8 @@ namespace {
 const char* kInfoHelp =
     "usage: anisurf info MESH [--sol SOL] [--weld TOL] [--json]\n"
     "\n"
-    "Loads a surface mesh (.mesh .meshb .obj .off .ply .stl .gltf .glb), builds its\n"
+    "Loads a surface mesh (.mesh .meshb .obj .off .ply .stl .gltf .glb .msh .vtu .vtp\n"
+    ".vtk), builds its\n"
     "connectivity and prints: vertices, triangles, edges, components, boundary loops,\n"
     "Euler characteristic, bounding box, tagged entities (ridges, corners, required,\n"
     "references), fields, what was repaired while building, and whether every\n"
@@ -34,18 +35,24 @@ const char* kInfoHelp =
 
 const char* kConvertHelp =
     "usage: anisurf convert IN OUT [--sol SOL] [--weld TOL] [--ascii] [--big-endian] [--medit-version 1|2]\n"
+    "                      [--msh-version 4.1|2.2] [--vtk-encoding ENC] [--zlib]\n"
     "\n"
     "Reads IN, repairs what build can repair (see `anisurf info`), writes OUT in the\n"
-    "format given by its extension: .mesh .meshb .obj .ply .stl .glb .vtk.\n"
-    "Fields (from --sol) go into OUT.sol beside a Medit output, or into the .vtk.\n"
+    "format given by its extension: .mesh .meshb .obj .ply .stl .glb .msh .vtu .vtp .vtk.\n"
+    "Fields (from the input file or --sol) go into OUT.sol beside a Medit output, or\n"
+    "into the .msh ($NodeData), .vtu .vtp or .vtk (point data).\n"
     "The output is written to a temporary file and renamed on success.\n"
     "\n"
     "options:\n"
     "  --sol SOL            per-vertex fields to carry over\n"
     "  --weld TOL           merge vertices closer than TOL x the bounding box diagonal\n"
-    "  --ascii              PLY / STL: write text instead of binary\n"
+    "  --ascii              PLY / STL / .msh / .vtu .vtp: write text instead of binary\n"
     "  --big-endian         PLY binary: big-endian byte order\n"
     "  --medit-version N    .mesh: 1 (single precision) or 2 (double, default)\n"
+    "  --msh-version V      .msh: 4.1 (default) or 2.2\n"
+    "  --vtk-encoding ENC   .vtu .vtp data arrays: appended (raw, default), binary\n"
+    "                       (inline base64), appended-base64 or ascii\n"
+    "  --zlib               .vtu .vtp: zlib-compress the binary data arrays\n"
     "\n"
     "example: anisurf convert bunny.off bunny.mesh\n";
 
@@ -205,6 +212,21 @@ int run_convert(const std::vector<std::string>& args) {
     if (mv != "1" && mv != "2") throw UsageError{"--medit-version must be 1 or 2"};
     w.medit_version = mv == "1" ? 1 : 2;
   }
+  const std::string msh = p.option("--msh-version");
+  if (!msh.empty()) {
+    if (msh != "4.1" && msh != "2.2") throw UsageError{"--msh-version must be 4.1 or 2.2"};
+    w.msh_version = msh == "4.1" ? 41 : 22;
+  }
+  const std::string enc = p.option("--vtk-encoding");
+  if (!w.binary) w.vtk_encoding = VtkXmlEncoding::Ascii;
+  if (enc == "appended") w.vtk_encoding = VtkXmlEncoding::Appended;
+  else if (enc == "binary") w.vtk_encoding = VtkXmlEncoding::Binary;
+  else if (enc == "appended-base64") w.vtk_encoding = VtkXmlEncoding::AppendedBase64;
+  else if (enc == "ascii") w.vtk_encoding = VtkXmlEncoding::Ascii;
+  else if (!enc.empty()) throw UsageError{"--vtk-encoding must be appended, binary, appended-base64 or ascii"};
+  w.vtk_compress = p.flag("--zlib");
+  if (w.vtk_compress && w.vtk_encoding == VtkXmlEncoding::Ascii)
+    throw UsageError{"--zlib compresses binary data: not with --ascii or --vtk-encoding ascii"};
   std::string sol = p.option("--sol");
   BuildOptions bo = build_options(p);
   auto pos = p.positionals();

@@ -27,7 +27,7 @@ const char* kReconstructHelp =
     "Feature edges stay feature edges; references and tags are kept.\n"
     "\n"
     "options:\n"
-    "  -o, --output OUT       output mesh (.mesh .meshb .obj .ply .stl .glb .vtk)\n"
+    "  -o, --output OUT       output mesh (.mesh .meshb .obj .ply .stl .glb .msh .vtu .vtp .vtk)\n"
     "  -k N                   split factor (default 2: each triangle into 4)\n"
     "  --ridge-angle DEG      dihedral angle above which an edge is a ridge (default 45)\n"
     "  -nr, --no-ridges       no ridge detection (the file's Ridges are kept)\n"

@@ -69,7 +69,7 @@ std::optional<int> editor_main(const std::vector<std::string>& args, const std::
       // A mesh file name that does not exist: say so (not "unknown command").
       std::string ext = std::filesystem::path(args[0]).extension().string();
       std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-      for (const char* e : {".mesh", ".meshb", ".off", ".obj", ".ply", ".stl", ".gltf", ".glb", ".vtk"})
+      for (const char* e : {".mesh", ".meshb", ".off", ".obj", ".ply", ".stl", ".gltf", ".glb", ".vtk", ".msh", ".vtu", ".vtp"})
         if (ext == e) {
           std::cerr << "anisurf: " << args[0] << ": no such file\n";
           return 1;

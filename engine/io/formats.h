@@ -27,5 +27,11 @@ void write_stl(const std::string& path, const MeshData& data, bool binary);
 MeshData read_gltf(const std::string& path);  // .gltf and .glb
 void write_glb(const std::string& path, const MeshData& data);
 void write_vtk(const std::string& path, const MeshData& data);
+MeshData read_vtk(const std::string& path);  // legacy .vtk, ASCII or BINARY
+MeshData read_gmsh(const std::string& path);  // .msh 2.2 / 4.1, ASCII or binary
+// version 41 (4.1) or 22 (2.2).
+void write_gmsh(const std::string& path, const MeshData& data, int version, bool binary);
+MeshData read_vtk_xml(const std::string& path);  // .vtu and .vtp
+void write_vtk_xml(const std::string& path, const MeshData& data, bool poly, VtkXmlEncoding encoding, bool compress);
 
 }  // namespace anisurf::io

@@ -20,8 +20,8 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-const char* const kReadable = ".mesh .meshb .obj .off .ply .stl .gltf .glb";
-const char* const kWritable = ".mesh .meshb .obj .ply .stl .glb .vtk";
+const char* const kReadable = ".mesh .meshb .obj .off .ply .stl .gltf .glb .msh .vtu .vtp .vtk";
+const char* const kWritable = ".mesh .meshb .obj .ply .stl .glb .msh .vtu .vtp .vtk";
 
 enum class SolFormat { Ascii, Binary };
 
@@ -51,9 +51,17 @@ MeshFormat mesh_format_from_path(const std::string& path) {
   if (ext == ".gltf") return MeshFormat::Gltf;
   if (ext == ".glb") return MeshFormat::Glb;
   if (ext == ".vtk") return MeshFormat::Vtk;
+  if (ext == ".msh") return MeshFormat::Gmsh;
+  if (ext == ".vtu") return MeshFormat::Vtu;
+  if (ext == ".vtp") return MeshFormat::Vtp;
   const std::string shown = std::filesystem::path(path).extension().string();
   throw IoError(path + ": unknown mesh format " + (shown.empty() ? std::string("(no extension)") : "'" + shown + "'") +
-                ", expected one of " + kReadable + " (.vtk write only)");
+                ", expected one of " + kReadable);
+}
+
+bool format_embeds_fields(MeshFormat format) {
+  return format == MeshFormat::Gmsh || format == MeshFormat::Vtu || format == MeshFormat::Vtp ||
+         format == MeshFormat::Vtk;
 }
 
 MeshData read_mesh_data(const std::string& path) {
@@ -66,9 +74,12 @@ MeshData read_mesh_data(const std::string& path) {
     case MeshFormat::Stl: return io::read_stl(path);
     case MeshFormat::Gltf:
     case MeshFormat::Glb: return io::read_gltf(path);
-    case MeshFormat::Vtk: break;
+    case MeshFormat::Vtk: return io::read_vtk(path);
+    case MeshFormat::Gmsh: return io::read_gmsh(path);
+    case MeshFormat::Vtu:
+    case MeshFormat::Vtp: return io::read_vtk_xml(path);
   }
-  throw IoError(path + ": .vtk is write only, expected one of " + std::string(kReadable) + " to read");
+  throw IoError(path + ": unknown mesh format, expected one of " + std::string(kReadable));
 }
 
 void write_mesh_data(const std::string& path, const MeshData& data, const WriteOptions& options) {
@@ -80,6 +91,12 @@ void write_mesh_data(const std::string& path, const MeshData& data, const WriteO
     case MeshFormat::Stl: io::write_stl(path, data, options.binary); return;
     case MeshFormat::Glb: io::write_glb(path, data); return;
     case MeshFormat::Vtk: io::write_vtk(path, data); return;
+    case MeshFormat::Gmsh: io::write_gmsh(path, data, options.msh_version, options.binary); return;
+    case MeshFormat::Vtu:
+    case MeshFormat::Vtp:
+      io::write_vtk_xml(path, data, mesh_format_from_path(path) == MeshFormat::Vtp, options.vtk_encoding,
+                        options.vtk_compress);
+      return;
     case MeshFormat::Off:
     case MeshFormat::Gltf: break;
   }

@@ -1,8 +1,10 @@
 // Reading and writing surface meshes and per-vertex fields in every supported
 // format, chosen from the file extension.
-//   read:  .mesh .meshb (Medit), .obj, .off, .ply, .stl, .gltf, .glb
-//   write: .mesh .meshb, .obj, .ply, .stl, .glb, .vtk (legacy, with fields)
-//   fields: .sol / .solb (Medit SolAtVertices: scalar, vector, tensor)
+//   read:  .mesh .meshb (Medit), .obj, .off, .ply, .stl, .gltf, .glb,
+//          .msh (Gmsh 2.2 / 4.1), .vtu .vtp (VTK XML), .vtk (legacy VTK)
+//   write: .mesh .meshb, .obj, .ply, .stl, .glb, .msh, .vtu .vtp, .vtk
+//   fields: .sol / .solb (Medit SolAtVertices: scalar, vector, tensor);
+//           embedded in .msh ($NodeData), .vtu .vtp .vtk (point data) and .ply
 #pragma once
 #include <string>
 #include <vector>
@@ -13,16 +15,27 @@
 
 namespace anisurf {
 
-enum class MeshFormat { Medit, MeditBinary, Obj, Off, Ply, Stl, Gltf, Glb, Vtk };
+enum class MeshFormat { Medit, MeditBinary, Obj, Off, Ply, Stl, Gltf, Glb, Vtk, Gmsh, Vtu, Vtp };
+
+// True for the formats that carry per-vertex fields inside the mesh file
+// (.msh .vtu .vtp .vtk); Medit keeps them in a .sol beside the mesh.
+bool format_embeds_fields(MeshFormat format);
+
+// How VTK XML data arrays are stored: text, inline base64 ("binary"), or
+// appended after the XML as raw bytes or as base64.
+enum class VtkXmlEncoding { Ascii, Binary, Appended, AppendedBase64 };
 
 // Format from the extension (case-insensitive); throws IoError naming the
 // path and the supported extensions otherwise.
 MeshFormat mesh_format_from_path(const std::string& path);
 
 struct WriteOptions {
-  bool binary = true;      // PLY / STL: binary (true) or ASCII
+  bool binary = true;      // PLY / STL / .msh: binary (true) or ASCII
   bool big_endian = false; // PLY binary byte order
   int medit_version = 2;   // .mesh: 1 (float precision) or 2 (double)
+  int msh_version = 41;    // .msh: 41 (4.1) or 22 (2.2)
+  VtkXmlEncoding vtk_encoding = VtkXmlEncoding::Appended;  // .vtu .vtp
+  bool vtk_compress = false;  // .vtu .vtp binary data zlib-compressed
 };
 
 // Reads file-level data (no repair yet). Throws IoError with file and line.

@@ -28,7 +28,8 @@ constexpr ReaderInfo kReaders[] = {
     {Reader::Medit, "medit", ".mesh"}, {Reader::MeditBinary, "meshb", ".meshb"}, {Reader::Sol, "sol", ".sol"},
     {Reader::SolBinary, "solb", ".solb"}, {Reader::Obj, "obj", ".obj"},        {Reader::Off, "off", ".off"},
     {Reader::Ply, "ply", ".ply"},       {Reader::Stl, "stl", ".stl"},            {Reader::Gltf, "gltf", ".gltf"},
-    {Reader::Glb, "glb", ".glb"},
+    {Reader::Glb, "glb", ".glb"},       {Reader::Gmsh, "msh", ".msh"},           {Reader::Vtu, "vtu", ".vtu"},
+    {Reader::Vtp, "vtp", ".vtp"},       {Reader::Vtk, "vtk", ".vtk"},
 };
 
 const ReaderInfo& info(Reader r) {

@@ -12,7 +12,7 @@
 
 namespace anisurf::fuzz {
 
-enum class Reader { Medit, MeditBinary, Sol, SolBinary, Obj, Off, Ply, Stl, Gltf, Glb };
+enum class Reader { Medit, MeditBinary, Sol, SolBinary, Obj, Off, Ply, Stl, Gltf, Glb, Gmsh, Vtu, Vtp, Vtk };
 
 // Every reader, its name (the fuzz target is fuzz_NAME, its corpus
 // tests/fuzz/corpus/NAME) and the file extension it reads.
