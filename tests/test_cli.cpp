@@ -135,6 +135,38 @@ TEST_CASE("anisurf adapt IN.msh -o OUT.msh / OUT.vtu: the metric and interpolate
   }
 }
 
+TEST_CASE("anisurf adapt IN.vtu / IN.msh with a metric inside: used with no other source, or named") {
+  auto dir = anisurf::test::temp_dir("cli_adapt_embedded_metric");
+  const std::string sol = std::string(ANISURF_TEST_DATA_DIR) + "/../../assets/demo.sol";
+  // The same adaptation from demo.mesh + demo.sol and from one file holding both.
+  const std::string ref = (dir / "ref.mesh").string();
+  REQUIRE(run_anisurf("adapt " + demo_mesh() + " --sol " + sol + " -o " + ref + " -v 0", "ref").code == 0);
+  for (const char* name : {"in.vtu", "in.msh"}) {
+    CAPTURE(name);
+    const std::string in = (dir / name).string(), out = (dir / (std::string("out_") + name)).string();
+    REQUIRE(run_anisurf("convert " + demo_mesh() + " --sol " + sol + " " + in, "conv").code == 0);
+    Run r = run_anisurf("adapt " + in + " -o " + out + " -v 0", "adapt_in_metric");
+    CAPTURE(r.err);
+    REQUIRE(r.code == 0);
+    const anisurf::MeshData a = anisurf::read_mesh_data(ref), b = anisurf::read_mesh_data(out);
+    CHECK(a.vertices.size() == b.vertices.size());
+    CHECK(a.triangles.size() == b.triangles.size());
+    REQUIRE(b.fields.size() == 1);  // the metric, not a second copy of the input's field
+    CHECK(b.fields[0].info.name == "metric");
+    // Named: the field must exist.
+    Run bad = run_anisurf("adapt " + in + " --metric-field nope -o " + out + " -v 0", "adapt_bad_field");
+    CHECK(bad.code == 1);
+    CHECK(bad.err.find("no field 'nope'") != std::string::npos);
+  }
+  // A file without any tensor field and no source: refused, naming the file.
+  const std::string plain = (dir / "plain.vtu").string();
+  REQUIRE(run_anisurf("convert " + demo_mesh() + " " + plain, "conv_plain").code == 0);
+  Run none = run_anisurf("adapt " + plain + " -o " + (dir / "x.vtu").string(), "adapt_no_metric");
+  CHECK(none.code == 1);
+  CHECK(none.err.find("plain.vtu: no metric") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(dir / "x.vtu"));
+}
+
 TEST_CASE("bad input: clear message, non-zero exit, no output left behind") {
   auto dir = anisurf::test::temp_dir("cli_bad");
   std::string missing = (dir / "nope.mesh").string();

@@ -36,6 +36,10 @@ const char* kAdaptHelp =
     "\n"
     "METRIC (one source, as in `anisurf metric`):\n"
     "  --sol S | -sol S     metric tensors or sizes on the vertices of IN\n"
+    "  --metric-field NAME  the field NAME of IN itself (.msh $NodeData, .vtu/.vtp/.vtk\n"
+    "                       point data): a 3x3 tensor or a size; with no other\n"
+    "                       source such an IN's field \"metric\", else its first tensor\n"
+    "                       field, is used\n"
     "  --size EXPR          isotropic size h(x,y,z)\n"
     "  --tensor EXPR        'm11, m12, m22, m13, m23, m33'\n"
     "  --hessian-of EXPR    with --error EPS | --complexity C | --vertices N [--norm P]\n"
@@ -172,6 +176,11 @@ struct AdaptCommandLine {
   std::string in, out, geometry, report, interpolate;
   BuildOptions build;  // --weld
   MetricSourceOptions metric;
+  // The metric is a field of IN itself (--metric-field, or a format with
+  // fields inside and no other source): its name, empty for "metric" or the
+  // first tensor field.
+  bool metric_from_input = false;
+  std::string metric_field;
   remesh::AdaptOptions options;
   double hausd = 0, hgrad = 1.3;
   int verbose = 1;
@@ -226,6 +235,8 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
   c.build = weld_build_options(p);
   c.report = p.option("--report");
   c.interpolate = p.option("--interpolate");
+  c.metric_field = p.option("--metric-field");
+  c.metric_from_input = !c.metric_field.empty();
   o.remesh.record_touched = !c.report.empty();  // only the JSON report counts them
   const std::string verb = p.option("-v", "--verbose");
   c.verbose = verb.empty() ? 1 : std::atoi(verb.c_str());
@@ -238,10 +249,14 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
   }
   if (c.in.empty() || !pos.empty()) throw UsageError{"expected one input mesh"};
   if (c.out.empty()) throw UsageError{"-o OUT.mesh is required"};
-  if (c.metric.source_count() > 1) throw UsageError{"give at most one metric source"};
-  if (c.metric.source_count() == 0) {
-    if (!(c.hausd > 0)) throw UsageError{"give a metric source (--sol, --size, ...) or --hausd D"};
-    c.metric.curvature = true;
+  if (c.metric.source_count() + c.metric_from_input > 1) throw UsageError{"give at most one metric source"};
+  if (c.metric.source_count() == 0 && !c.metric_from_input) {
+    if (c.hausd > 0)
+      c.metric.curvature = true;
+    else if (format_embeds_fields(mesh_format_from_path(c.in)))
+      c.metric_from_input = true;
+    else
+      throw UsageError{"give a metric source (--sol, --size, ...) or --hausd D"};
   }
   if (c.metric.curvature && !(c.hausd > 0)) throw UsageError{"--curvature needs --hausd D with D > 0"};
   if (!c.metric.hessian_of_field.empty() && c.interpolate.empty())
@@ -281,11 +296,48 @@ struct AdaptFiles {
   std::vector<std::string> interpolated_names;  // the names in the --interpolate file
 };
 
+// The metric carried by IN itself (AdaptCommandLine::metric_from_input): the
+// field named --metric-field, else "metric", else the first tensor field;
+// taken out of T_0's fields (it is not a solution to interpolate).
+MetricField metric_of_input(const AdaptCommandLine& c, SurfaceMesh& t0, const BuildReport& report) {
+  std::string name = c.metric_field;
+  if (name.empty())
+    for (const FieldInfo& info : t0.fields())
+      if (info.name == "metric") name = info.name;
+  if (name.empty())
+    for (const FieldInfo& info : t0.fields())
+      if (info.kind == FieldKind::Tensor) {
+        name = info.name;
+        break;
+      }
+  if (name.empty())
+    throw MetricError(c.in + ": no metric: the file has no tensor field; give a metric source (--sol, --size, ...) "
+                      "or --hausd D");
+  std::string known;
+  bool found = false;
+  for (const FieldInfo& info : t0.fields()) {
+    found = found || info.name == name;
+    known += (known.empty() ? "" : ", ") + info.name;
+  }
+  if (!found)
+    throw MetricError(c.in + ": no field '" + name + "' (--metric-field); the file's fields: " +
+                      (known.empty() ? "none" : known));
+  MetricField metric;
+  try {
+    metric = metric_from_field(t0, name, report.vertex_origin);
+  } catch (const MetricError& e) {
+    throw MetricError(c.in + ": field '" + name + "': " + e.what());
+  }
+  t0.remove_field(name);
+  return metric;
+}
+
 AdaptFiles read_adapt_inputs(AdaptCommandLine& c) {
   AdaptFiles f;
   BuildReport report;
   f.input.mesh = load_mesh(c.in, &report, c.build);
   f.input.vertex_origin = report.vertex_origin;
+  if (c.metric_from_input) f.sol_metric = metric_of_input(c, f.input.mesh, report);
   if (!c.metric.sol.empty()) {
     // The metric is read into its own array; T_0 keeps no copy as a field.
     SurfaceMesh with_fields = f.input.mesh;

@@ -228,8 +228,8 @@ broken file.)doc");
 save(mesh, path, fields=None, binary=True)
 
 Writes `mesh` (a Mesh, an adapt() Result, or a (vertices, triangles[, refs])
-tuple) in the format of the extension (.mesh .meshb .obj .ply .stl .glb .vtk;
-binary: PLY and STL), or, for .sol/.solb, its fields (SolAtVertices). `fields`
+tuple) in the format of the extension (.mesh .meshb .obj .ply .stl .glb .vtk
+.msh .vtu .vtp; binary: PLY, STL and .msh; .msh/.vtu/.vtp/.vtk hold the fields), or, for .sol/.solb, its fields (SolAtVertices). `fields`
 (dict name -> array) adds to or replaces the mesh's fields, e.g.
 save(result, "out.sol", fields={"metric": result.metric}).)doc");
 }
