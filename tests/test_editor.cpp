@@ -658,3 +658,26 @@ TEST_CASE("editor: color distance in a script, headless: the legend and the colo
 }
 
 #endif
+
+TEST_CASE("editor: a .vtu or .msh with its metric inside opens with that metric, and recomputes it from the file") {
+  const auto dir = anisurf::test::temp_dir("editor_embedded_metric");
+  EditorSession ref;
+  ref.open(demo_mesh(), demo_sol());
+  for (const char* name : {"demo.vtu", "demo.msh"}) {
+    CAPTURE(name);
+    const std::string path = (dir / name).string();
+    BuildReport report;
+    SurfaceMesh with_sol = load_mesh(demo_mesh(), &report);
+    attach_fields(with_sol, read_sol(demo_sol(), report.input_vertices), report);
+    save_mesh(path, with_sol);
+    EditorSession s;
+    s.open(path);
+    CHECK(s.settings().source == MetricSettings::Source::Sol);
+    CHECK(s.predicted_vertices() == doctest::Approx(ref.predicted_vertices()).epsilon(1e-9));
+    // A change of the gradation reads the metric again, from the file itself.
+    MetricSettings changed = s.settings();
+    changed.hgrad = 2.0;
+    s.set_settings(changed);
+    CHECK(s.predicted_vertices() > 0);
+  }
+}

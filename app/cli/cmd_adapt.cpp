@@ -300,16 +300,7 @@ struct AdaptFiles {
 // field named --metric-field, else "metric", else the first tensor field;
 // taken out of T_0's fields (it is not a solution to interpolate).
 MetricField metric_of_input(const AdaptCommandLine& c, SurfaceMesh& t0, const BuildReport& report) {
-  std::string name = c.metric_field;
-  if (name.empty())
-    for (const FieldInfo& info : t0.fields())
-      if (info.name == "metric") name = info.name;
-  if (name.empty())
-    for (const FieldInfo& info : t0.fields())
-      if (info.kind == FieldKind::Tensor) {
-        name = info.name;
-        break;
-      }
+  const std::string name = c.metric_field.empty() ? embedded_metric_name(t0) : c.metric_field;
   if (name.empty())
     throw MetricError(c.in + ": no metric: the file has no tensor field; give a metric source (--sol, --size, ...) "
                       "or --hausd D");

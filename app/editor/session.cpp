@@ -92,6 +92,17 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
   auto mesh = std::make_unique<SurfaceMesh>(load_mesh(mesh_path, &report));
   if (mesh->n_triangles() == 0) throw Error(mesh_path + ": the mesh has no triangles");
   MetricField sol_metric;
+  // A mesh format with fields inside (.msh, .vtu ...) may carry its metric:
+  // then it is the loaded metric, the file its own "sol" (as `anisurf adapt`).
+  const std::string embedded = sol_path.empty() ? embedded_metric_name(*mesh) : std::string();
+  if (!embedded.empty()) {
+    try {
+      sol_metric = metric_from_field(*mesh, embedded, report.vertex_origin);
+    } catch (const MetricError& e) {
+      throw Error(mesh_path + ": field '" + embedded + "': " + e.what());
+    }
+    mesh->remove_field(embedded);
+  }
   if (!sol_path.empty()) {
     // The editor keeps the metric apart: the fields go on a copy, T_0 has none.
     SurfaceMesh with_fields = *mesh;
@@ -118,9 +129,9 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
   forget_input_state();
   MetricSettings s = settings_;
   MetricField m;
-  if (!sol_path.empty()) {
+  if (!sol_path.empty() || !embedded.empty()) {
     s.source = MetricSettings::Source::Sol;
-    s.sol_path = sol_path;
+    s.sol_path = sol_path.empty() ? mesh_path : sol_path;
     // As compute_metric() (and `anisurf adapt`): the recipe with the metric given.
     m = build_metric(*input_, metric_recipe(s, std::move(sol_metric)), vertex_origin_).metric;
   } else {
@@ -190,9 +201,11 @@ MetricRecipe EditorSession::metric_recipe(const MetricSettings& s, MetricField l
       SurfaceMesh copy = load_mesh(mesh_path_, &report);
       if (copy.vertex_capacity() != input_->vertex_capacity())
         throw Error(s.sol_path + ": does not match the mesh's vertices");
-      attach_fields(copy, read_sol(s.sol_path, report.input_vertices), report);
+      // The metric inside the mesh file itself (open), or a .sol beside it.
+      const bool inside = s.sol_path == mesh_path_;
+      if (!inside) attach_fields(copy, read_sol(s.sol_path, report.input_vertices), report);
       try {
-        r.given = metric_from_field(copy, {}, report.vertex_origin);
+        r.given = metric_from_field(copy, inside ? embedded_metric_name(copy) : std::string(), report.vertex_origin);
       } catch (const MetricError& e) {
         throw Error(s.sol_path + ": " + e.what());
       }

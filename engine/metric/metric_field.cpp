@@ -10,6 +10,14 @@ int file_index(int v, const std::vector<int>& vertex_origin) {
 
 }  // namespace
 
+std::string embedded_metric_name(const SurfaceMesh& mesh) {
+  for (const FieldInfo& f : mesh.fields())
+    if (f.name == "metric") return f.name;
+  for (const FieldInfo& f : mesh.fields())
+    if (f.kind == FieldKind::Tensor) return f.name;
+  return {};
+}
+
 MetricField metric_from_field(const SurfaceMesh& mesh, const std::string& name,
                               const std::vector<int>& vertex_origin) {
   const FieldInfo* chosen = nullptr;

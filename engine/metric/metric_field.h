@@ -22,6 +22,10 @@ using MetricField = std::vector<SymTensor3>;
 // (1-based file numbering through `vertex_origin` if given, see BuildReport).
 MetricField metric_from_field(const SurfaceMesh& mesh, const std::string& name = {},
                               const std::vector<int>& vertex_origin = {});
+// The field of a mesh read from a format with fields inside (.msh, .vtu ...)
+// that is its metric: "metric" (the name anisurf writes), else the first
+// tensor field; empty when there is none.
+std::string embedded_metric_name(const SurfaceMesh& mesh);
 // Throws MetricError naming the first vertex whose metric is not finite / SPD.
 void check_metric_field(const SurfaceMesh& mesh, const MetricField& metric, const std::vector<int>& vertex_origin = {});
 // Stores the metric as a 6-component tensor field `name` (replacing its values).
