@@ -47,32 +47,12 @@ std::string array_name(const std::string& name, std::size_t k, std::set<std::str
   return unique;
 }
 
+// The checks of every writer (field_layout.h), and the legacy format's own
+// limits on field components.
 void check(const std::string& path, const MeshData& d) {
+  check_for_writing(path, d, false);
   auto refuse = [&](const std::string& m) { throw IoError(path + ": cannot write: " + m); };
-  const auto nv = static_cast<long long>(d.vertices.size());
-  for (std::size_t i = 0; i < d.triangles.size(); ++i)
-    for (int v : d.triangles[i])
-      if (v < 0 || v >= nv)
-        refuse("triangle " + std::to_string(i) + ": vertex id " + std::to_string(v) + " out of range 0.." +
-               std::to_string(nv - 1));
-  for (std::size_t i = 0; i < d.edges.size(); ++i)
-    for (int v : d.edges[i])
-      if (v < 0 || v >= nv)
-        refuse("edge " + std::to_string(i) + ": vertex id " + std::to_string(v) + " out of range 0.." +
-               std::to_string(nv - 1));
-  auto sized = [&](std::size_t refs, std::size_t n, const char* what) {
-    if (refs != 0 && refs != n)
-      refuse(std::string(what) + " has " + std::to_string(refs) + " entries, expected 0 or " + std::to_string(n));
-  };
-  sized(d.vertex_refs.size(), d.vertices.size(), "vertex_refs");
-  sized(d.triangle_refs.size(), d.triangles.size(), "triangle_refs");
-  sized(d.edge_refs.size(), d.edges.size(), "edge_refs");
   for (const auto& f : d.fields) {
-    if (f.info.ncomp < 1 || f.info.ncomp > 6)
-      refuse("field '" + f.info.name + "' has " + std::to_string(f.info.ncomp) + " components, expected 1..6");
-    if (f.values.size() != d.vertices.size() * static_cast<std::size_t>(f.info.ncomp))
-      refuse("field '" + f.info.name + "' has " + std::to_string(f.values.size()) + " values, expected " +
-             std::to_string(d.vertices.size()) + " x " + std::to_string(f.info.ncomp));
     if (f.info.kind == FieldKind::Tensor && f.info.ncomp != 3 && f.info.ncomp != 6)
       refuse("tensor field '" + f.info.name + "' has " + std::to_string(f.info.ncomp) + " components, expected 3 or 6");
     if (f.info.kind != FieldKind::Tensor && f.info.ncomp > 4 && !(f.info.kind == FieldKind::Vector && f.info.ncomp <= 3))
