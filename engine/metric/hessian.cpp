@@ -29,9 +29,12 @@ class RingCollector {
     on_feature_ = on_feature;
     if (on_feature_) triangle_seen_.assign(static_cast<std::size_t>(mesh_.triangle_capacity()), 0);
   }
-  // The corners of v's fan the next collections start from (null: all).
-  void set_sector(const std::vector<Corner>* sector) {
+  // The corners of v's fan the next collections start from (null: all), and
+  // whether they may meet the feature curves at all (false: plain rings,
+  // without the bookkeeping of the sides).
+  void set_sector(const std::vector<Corner>* sector, bool near_features = true) {
     sector_ = sector;
+    near_features_ = near_features;
     last_ = {-1, 0, 0};
   }
 
@@ -41,6 +44,7 @@ class RingCollector {
     const std::array<int, 3> request{v.idx, rings, min_points};
     if (request == last_) return out_;
     last_ = request;
+    met_features_ = false;
     out_.clear();
     seen_[v.idx] = 1;
     std::size_t begin = 0;
@@ -57,9 +61,18 @@ class RingCollector {
     return out_;
   }
 
+  // True when the last collection passed a vertex on a feature curve (its
+  // points are then one-sided there).
+  bool met_features() const { return met_features_; }
+
  private:
   void add_ring_of(Vertex u, bool centre) {
-    if (!on_feature_ || (!(*on_feature_)[u.idx] && !(centre && sector_))) {
+    if (!sided()) {
+      for (Corner c : mesh_.fan_corners(u)) add_triangle_of(c);
+      return;
+    }
+    if ((*on_feature_)[u.idx]) met_features_ = true;
+    if (!(*on_feature_)[u.idx] && !(centre && sector_)) {
       for (Corner c : mesh_.fan_corners(u)) add_triangle_of(c);
       return;
     }
@@ -85,8 +98,10 @@ class RingCollector {
       if (allowed_[i]) add_triangle_of(fan_[i]);
   }
 
+  bool sided() const { return on_feature_ && near_features_; }
+
   void add_triangle_of(Corner c) {
-    if (on_feature_) {
+    if (sided()) {
       const int t = SurfaceMesh::triangle(c).idx;
       if (!triangle_seen_[t]) {
         triangle_seen_[t] = 1;
@@ -109,6 +124,8 @@ class RingCollector {
   std::vector<int> triangles_;
   std::vector<Corner> fan_;
   std::array<int, 3> last_{-1, 0, 0};
+  bool met_features_ = false;
+  bool near_features_ = true;
 };
 
 // How a vertex's derivatives were obtained.
@@ -494,6 +511,27 @@ std::vector<SymTensor3> second_fundamental_form(const SurfaceMesh& mesh, const s
   return out;
 }
 
+// Per vertex slot: 1 within `rings` edges of a vertex on a feature curve
+// (the ring collections that can reach the curves: RingCollector expands up
+// to its third ring).
+std::vector<char> within_rings_of_features(const SurfaceMesh& mesh, const std::vector<char>& on_feature, int rings) {
+  std::vector<char> near = on_feature;
+  std::vector<int> front;
+  for (Vertex v : mesh.vertices())
+    if (on_feature[v.idx]) front.push_back(v.idx);
+  for (int r = 0; r < rings && !front.empty(); ++r) {
+    std::vector<int> next;
+    for (int u : front)
+      for (Vertex w : mesh.ring_vertices(Vertex(u)))
+        if (!near[w.idx]) {
+          near[w.idx] = 1;
+          next.push_back(w.idx);
+        }
+    front.swap(next);
+  }
+  return near;
+}
+
 // The largest curvature of a circle tangent to the plane of n at v through
 // one of the points: 2 |depth| / distance^2. A quadric fitted on the points
 // bends no more than that in the directions they sample.
@@ -685,19 +723,25 @@ SectorCurvatures recover_sector_curvature(const SurfaceMesh& mesh, const Hessian
   out.form.reserve(static_cast<std::size_t>(mesh.n_vertices()));
   std::vector<char> fitted;
   fitted.reserve(static_cast<std::size_t>(mesh.n_vertices()));
+  const std::vector<char> near = within_rings_of_features(mesh, out.on_feature, 3);
   FitWorkspace work(mesh);
   work.rings.set_features(&out.on_feature);
-  const std::vector<std::vector<Corner>> whole_fan(1);
+  const std::vector<std::vector<Corner>> whole_fan(1);  // one sector, the whole fan
+  std::vector<std::vector<Corner>> split_sectors;
   for (int i = 0; i < nv; ++i) {
     out.first[i] = static_cast<int>(out.form.size());
     const Vertex v(i);
     if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
-    const std::vector<std::vector<Corner>> sectors = out.on_feature[i] ? smooth_sectors(mesh, v) : whole_fan;
+    if (out.on_feature[i]) split_sectors = smooth_sectors(mesh, v);
+    const std::vector<std::vector<Corner>>& sectors = out.on_feature[i] ? split_sectors : whole_fan;
     const Vec3 p0 = mesh.position(v);
-    work.rank_threshold = out.on_feature[i] ? options.sector_rank_threshold : kFullRankThreshold;
     for (const std::vector<Corner>& sector : sectors) {
       const bool whole = sector.empty();
-      work.rings.set_sector(whole ? nullptr : &sector);
+      work.rings.set_sector(whole ? nullptr : &sector, near[i] != 0);
+      // Points on one side of a feature curve: the stricter rank test and the cap.
+      work.rings.collect(v, options.rings, min_points(options));
+      const bool one_sided = work.rings.met_features();
+      work.rank_threshold = one_sided ? options.sector_rank_threshold : kFullRankThreshold;
       Vec3 n;
       if (whole)
         for (Corner c : mesh.fan_corners(v)) n += mesh.triangle_normal(SurfaceMesh::triangle(c));
@@ -715,8 +759,9 @@ SectorCurvatures recover_sector_curvature(const SurfaceMesh& mesh, const Hessian
       Vec3 g;
       const bool ok = fit_at(mesh, v, work, n, options, [&](Vertex w) { return -dot(mesh.position(w) - p0, n); }, g,
                              form) != FitKind::None;
-      if (ok && out.on_feature[i])
-        form = cap_curvature(form, n, largest_point_curvature(mesh, v, n, work.rings.collect(v, options.rings, min_points(options))));
+      if (ok && one_sided)
+        form = cap_curvature(form, n,
+                             largest_point_curvature(mesh, v, n, work.rings.collect(v, options.rings, min_points(options))));
       out.normal.push_back(n);
       out.form.push_back(ok ? form : SymTensor3());
       fitted.push_back(ok);

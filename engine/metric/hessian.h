@@ -30,11 +30,11 @@ struct HessianRecoveryOptions {
   // points do not determine the polynomial (grid corners, tiny meshes).
   int rings = 2;
   int min_points = 12;  // grow the neighbourhood until it has this many points
-  // Sector fits at vertices on feature curves (recover_sector_curvature):
-  // their points are one-sided and often lie near two curves (long thin
-  // triangles between parallel feature curves), so the full fit is taken
-  // only when its smallest pivot is at least this fraction of the largest;
-  // below, the reduced fit sets the undetermined terms to zero.
+  // Sector fits whose points stop at a feature curve (recover_sector_curvature:
+  // at and near the curves): the points are one-sided and often lie near two
+  // curves (long thin triangles between parallel feature curves), so the full
+  // fit is taken only when its smallest pivot is at least this fraction of
+  // the largest; below, the reduced fit sets the undetermined terms to zero.
   double sector_rank_threshold = 1e-3;
 };
 
@@ -141,6 +141,10 @@ MetricField hessian_metric(const SurfaceMesh& mesh, const std::vector<SymTensor3
 // without crossing a feature edge (ridge, boundary, reference interface), in
 // the tangent plane fitted on those points: a flat face beside a sharp edge
 // has no curvature from the edge, and each side of a ridge has its own.
+// Where the points stop at a feature curve they are one-sided: the fit is
+// taken at a stricter rank (sector_rank_threshold) and its curvatures capped
+// by the largest 2 |depth| / distance^2 of its points (a quadric through the
+// points bends no more than that where they sample it).
 // Away from the features the points, normals and forms are recover_curvature's.
 struct SectorCurvatures {
   std::vector<int> first;        // per vertex slot (and one past the last): its sectors are first[v] .. first[v+1]-1
