@@ -187,7 +187,9 @@ TEST_CASE("curvature sectors: a cube's faces and straight sharp edges ask for hm
 }
 
 TEST_CASE("curvature sectors: a capped cylinder is long and thin on its side, the rims sized by their circle") {
-  const double r = 1, height = 3, hausd = 1e-3, hmax = 1;
+  // hausd 1e-2: the facets (edges 0.1) sag by 1.2e-3, well below hausd / 4,
+  // so the curvature decides, not the creases between the facets.
+  const double r = 1, height = 3, hausd = 1e-2, hmax = 1;
   const int n = 64, rows = 24, rings = 6;
   SurfaceMesh m = capped_cylinder(r, height, n, rows, rings);
   detect_features(m);
@@ -222,7 +224,7 @@ TEST_CASE("curvature sectors: a capped cylinder is long and thin on its side, th
       cap = std::fmax(cap, std::fmax(std::fabs(range[0] / hmax - 1), std::fabs(range[1] / hmax - 1)));
     }
   }
-  MESSAGE("capped cylinder r = 1, hausd 1e-3 (sqrt(8 D r) = " << across << ", hmax 1): side across within "
+  MESSAGE("capped cylinder r = 1, hausd 1e-2 (sqrt(8 D r) = " << across << ", hmax 1): side across within "
                                                               << side_across << ", along within " << side_along
                                                               << "; rims along within " << rim_along << ", axial "
                                                               << rim_axis << ", radial " << rim_radial
@@ -242,8 +244,10 @@ TEST_CASE("curvature sectors: a capped cylinder is long and thin on its side, th
 }
 
 TEST_CASE("curvature sectors: a smooth sphere keeps the metric of its principal curvatures") {
+  // hausd 1e-2: the facets (edges 0.1) sag by 1.2e-3, below hausd / 4 (at
+  // hausd 1e-3 the creases between them decide: the next test).
   const SurfaceMesh m = icosphere(4);
-  const double hausd = 1e-3;
+  const double hausd = 1e-2;
   const MetricField M = curvature_metric(m, hausd);
   // The metric the fitted normals and curvatures of the whole rings give.
   const std::vector<Vec3> normal = fitted_normals(m);
@@ -259,6 +263,44 @@ TEST_CASE("curvature sectors: a smooth sphere keeps the metric of its principal 
                                         << " of the whole-ring fit");
   CHECK(worst_exact < 5e-3);
   CHECK(worst_rings < 1e-6);
+}
+
+TEST_CASE("curvature sectors: a crease below the ridge angle asks for 2 hausd / sin(theta / 2) across it") {
+  // Two 2 x 1 planes meeting along the x axis at 20 degrees, a grid of 0.1.
+  const double theta = 20 * M_PI / 180, hausd = 1e-3, hmax = 1;
+  const int nx = 20, ny = 10;
+  MeshData d;
+  for (int j = -ny; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) {
+      const double y = 0.1 * std::abs(j), x = 0.1 * i;
+      d.vertices.push_back(Vec3(x, j < 0 ? -y * std::cos(theta) : y, j < 0 ? y * std::sin(theta) : 0.0));
+    }
+  auto id = [&](int i, int j) { return (j + ny) * (nx + 1) + i; };
+  for (int j = -ny; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      d.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      d.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  SurfaceMesh m;
+  build_mesh(d, m);
+  detect_features(m);
+  MetricBounds b;
+  b.hmax = hmax;
+  const MetricField M = curvature_metric(m, hausd, b);
+  const double across = 2 * hausd / std::sin(theta / 2);
+  double worst_across = 0, shortest_along = hmax;
+  for (int i = 4; i <= nx - 4; ++i) {  // where the curvature fits see both sides alike
+    const SymTensor3& X = M[id(i, 0)];
+    const Vec3 u(0, std::cos(theta / 2), -std::sin(theta / 2));  // across, in the mean plane
+    worst_across = std::fmax(worst_across, std::fabs(size_along(X, u) / across - 1));
+    shortest_along = std::fmin(shortest_along, size_along(X, Vec3(1, 0, 0)));
+  }
+  MESSAGE("20-degree crease, hausd 1e-3: across within " << worst_across << " of " << across
+                                                        << ", along at least " << shortest_along);
+  CHECK(worst_across < 0.02);
+  // Long along the crease. Not hmax: the quadric fitted over the V bends
+  // along it too (the fit has no constant term to take the V's mean).
+  CHECK(shortest_along > 5 * across);
 }
 
 TEST_CASE("curvature sectors: CAD tessellations predict a vertex count of the order of their features") {

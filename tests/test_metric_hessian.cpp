@@ -223,7 +223,9 @@ TEST_CASE("hessian: curvature of the sphere and the geometric metric for hausd")
   CHECK(e4 < 0.01);
   CHECK(e3 / e4 > 3.5);  // second order
   // Sizes sqrt(8 hausd / kappa) in the tangent plane; the normal gets the same.
-  const double hausd = 1e-3;
+  // hausd 1e-2: the facets (edges 0.1) sag by 1.2e-3, below hausd / 4, so the
+  // creases between them ask for less than the curvature.
+  const double hausd = 1e-2;
   const MetricField M = curvature_metric(m, hausd);
   for (int i = 0; i < m.vertex_capacity(); i += 7) {
     const SizesDirections sd = sizes_and_directions(M[i]);
@@ -240,7 +242,11 @@ TEST_CASE("hessian: curvature of the sphere and the geometric metric for hausd")
 }
 
 TEST_CASE("hessian: the geometric metric of a cylinder: sqrt(8 hausd r) across, hmax along the axis") {
-  const double r = 2, hausd = 1e-3, hmax = 1.5;
+  // hausd 5e-2: the facets (edges 0.13) sag by 2e-3, far below hausd / 4, so
+  // neither the creases between them across the axis nor those of the
+  // diagonals (a chord along the axis crosses them) ask for less than the
+  // curvature and hmax.
+  const double r = 2, hausd = 5e-2, hmax = 1.5;
   const int n = 96, k = 40;
   const SurfaceMesh m = rebuilt(cylinder(r, n, k));
   MetricBounds b;

@@ -75,6 +75,44 @@ SymTensor3 curve_metric(const CurveDirection& d, double floor, double scale) {
   return (scale * std::fmax(d.curvature, floor)) * tt + (scale * floor) * across;
 }
 
+// Unit normal of t, or zero when t is too thin for it to mean anything (area
+// below 1e-12 times its longest edge squared, as detect_features).
+Vec3 reliable_normal(const SurfaceMesh& mesh, Triangle t) {
+  const Vec3 n = mesh.triangle_normal(t);
+  double longest2 = 0;
+  for (int k = 0; k < 3; ++k)
+    longest2 = std::fmax(longest2, norm2(mesh.position(mesh.vertex(t, (k + 1) % 3)) - mesh.position(mesh.vertex(t, k))));
+  return 0.5 * norm(n) > 1e-12 * longest2 ? normalized(n) : Vec3();
+}
+
+// The creases of the input: at both ends of every edge that is not a
+// feature curve, whose triangles turn by theta, the size 2 hausd / sin(theta
+// / 2) across it (a chord whose ends lie on the two planes, h / 2 from the
+// edge, passes h sin(theta / 2) / 2 from it) and nothing along it. Where the
+// input is fine for hausd (theta below about 2 sqrt(2 hausd kappa)) the
+// curvature asks for more; on a coarse tessellation (facets sagging by more
+// than about hausd / 4 from the smooth surface) the output follows its folds.
+void intersect_crease_metrics(const SurfaceMesh& mesh, double hausd, double floor, double scale, MetricField& M) {
+  const double floor_value = scale * floor;  // 1 / hmax^2
+  for (Corner c : mesh.edges()) {
+    if (is_feature_edge(mesh, c)) continue;
+    const Corner o = mesh.opposite(c);
+    if (!o.is_valid()) continue;
+    const Vec3 n1 = reliable_normal(mesh, SurfaceMesh::triangle(c)), n2 = reliable_normal(mesh, SurfaceMesh::triangle(o));
+    if (norm2(n1) == 0 || norm2(n2) == 0) continue;
+    const double half_sin = 0.5 * norm(n1 - n2);  // sin(theta / 2)
+    const double h = 2.0 * hausd / half_sin;
+    if (!(1.0 / (h * h) > floor_value)) continue;
+    const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
+    const Vec3 across = normalized(cross(normalized(n1 + n2), mesh.position(b) - mesh.position(a)));
+    if (norm2(across) == 0) continue;
+    const SymTensor3 uu = SymTensor3::outer(across);
+    const SymTensor3 crease = (1.0 / (h * h)) * uu + floor_value * (SymTensor3::identity() - uu);
+    M[a.idx] = intersect(M[a.idx], crease);
+    M[b.idx] = intersect(M[b.idx], crease);
+  }
+}
+
 }  // namespace
 
 // At a vertex off the features: the metric of its principal curvatures (the
@@ -105,8 +143,11 @@ MetricField curvature_metric(const SurfaceMesh& mesh, double hausd, const Metric
         m = intersect(m, absolute_tangent_metric(sc.form[s], sc.normal[s], floor, scale));
       for (const CurveDirection& d : curve_directions(mesh, v)) m = intersect(m, curve_metric(d, floor, scale));
     }
-    M[i] = clamp_metric(m, bounds);
+    M[i] = m;
   }
+  intersect_crease_metrics(mesh, hausd, floor, scale, M);
+  for (Vertex v : mesh.vertices())
+    if (!mesh.is_isolated(v)) M[v.idx] = clamp_metric(M[v.idx], bounds);
   return M;
 }
 
