@@ -49,7 +49,7 @@ from scipy.spatial import cKDTree
 
 TABLE1 = ["chamfer_cube.mesh", "featuretype.STL", "fixed_top.ply", "fandisk.off", "falcon.mesh", "beetle.off",
           "Duck.glb", "Suzanne.gltf", "thinker.mesh"]
-TABLE2 = ["falcon.mesh", "bunny.off", "fixed_top.ply"]
+TABLE2 = ["falcon.mesh", "bunny.off", "fixed_top.ply", "fandisk.off", "featuretype.STL"]
 HAUSD_FACTORS = [1e-3, 3e-4]
 TIMEOUT = 300.0          # seconds, per remeshing command
 EVAL_TIMEOUT = 1200.0    # seconds, per evaluator run
@@ -439,8 +439,20 @@ def table1(a, names, mmgs, rows, notes):
 
 
 # ------------------------------------------------------------------------------------ table 2
+def own_metric_band(evaluator, out_mesh, work):
+    """% of the output's edges in [0.71, 1.41] in the metric the tool wrote beside it (OUT.sol:
+    the final metric on the output mesh, after gradation), or None without one."""
+    sol = os.path.splitext(out_mesh)[0] + ".sol"
+    if not os.path.exists(sol):
+        return None
+    tag = os.path.splitext(os.path.basename(out_mesh))[0]
+    ev, _ = run_json([sys.executable, evaluator, out_mesh, "--metric", "sol", "--sol", sol, "--json"],
+                     os.path.join(work, tag + ".band.log"))
+    return None if ev is None else ev["len_in_range_pct"]
+
+
 def table2(a, names, mmgs, rows, notes):
-    cols = ["T", "time s", "dev / D"]
+    cols = ["T", "time s", "dev / D", "% in band"]
     tools = ["anisurf"] + (["mmgs"] if mmgs else [])
     print("\n## Table 2: --curvature --hausd D (D relative to the diagonal)\n")
     print("| input | D | hgrad | " + " | ".join("%s %s" % (t, c) for t in tools for c in cols) + " | pass |")
@@ -453,9 +465,9 @@ def table2(a, names, mmgs, rows, notes):
             rows.append({"table": 2, "input": name, "status": case.error, "anisurf_binary": a.binary_ident})
             sys.stdout.flush()
             continue
-        for f in HAUSD_FACTORS:
+        for f in a.factors:
             D = f * case.diag
-            for grad in (True, False):
+            for grad in a.gradations:
                 tag = "t2_%g_%s" % (f, "grad" if grad else "nograd")
                 row = {"table": 2, "input": name, "diagonal": case.diag, "D_factor": f, "D": D, "hgrad": grad,
                        "anisurf_binary": a.binary_ident}
@@ -472,8 +484,10 @@ def table2(a, names, mmgs, rows, notes):
                     r = measure(case, run, out_mesh, a.surfdist, a.evaluator)
                     r["command"] = " ".join(cmd)
                     if r["status"] == "ok":
+                        r["band_pct"] = own_metric_band(a.evaluator, out_mesh, case.work)
+                    if r["status"] == "ok":
                         r["dev_over_D"] = r["dist"] / D
-                        cells += [str(r["T"]), "%.2f" % r["seconds"], "%.2f" % r["dev_over_D"]]
+                        cells += [str(r["T"]), "%.2f" % r["seconds"], "%.2f" % r["dev_over_D"], fmt(r["band_pct"], ".1f")]
                         if r["dev_over_D"] > HAUSD_RATIO_MAX:
                             notes.append("%s D=%g diag %s, %s: deviation %.2f D at an output %s; worst vertex %s, "
                                          "worst centroid %s" % (
@@ -515,8 +529,14 @@ def main():
     ap.add_argument("--out", default=out_dir_default())
     ap.add_argument("--cases", default="", help="comma-separated inputs (file names or stems) to run")
     ap.add_argument("--table", default="both", choices=["1", "2", "both"])
+    ap.add_argument("--factors", default=",".join("%g" % f for f in HAUSD_FACTORS),
+                    help="table 2: D / diagonal, comma-separated (default %s)" % ",".join("%g" % f for f in HAUSD_FACTORS))
+    ap.add_argument("--hgrad", default="both", choices=["both", "on", "off"],
+                    help="table 2: gradation 1.3 (on), none (off) or both")
     ap.add_argument("--json", default="", help="also write every row as JSON to this file")
     a = ap.parse_args()
+    a.factors = [float(x) for x in a.factors.split(",") if x.strip()]
+    a.gradations = {"both": (True, False), "on": (True,), "off": (False,)}[a.hgrad]
     a.anisurf = os.path.abspath(a.anisurf)
     a.shared = os.path.abspath(a.shared)
     a.out = os.path.abspath(a.out)

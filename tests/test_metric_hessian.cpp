@@ -6,7 +6,9 @@
 #include <map>
 #include <random>
 
+#include "geometry/features.h"
 #include "mesh/build.h"
+#include "mesh/mesh_data.h"
 #include "metric/hessian.h"
 #include "metric/surface_metric.h"
 #include "test_util.h"
@@ -122,6 +124,22 @@ double tensor_error(const SymTensor2& a, const SymTensor2& b) {
   return std::max({std::fabs(a.m[0] - b.m[0]), std::fabs(a.m[1] - b.m[1]), std::fabs(a.m[2] - b.m[2])});
 }
 
+// The mesh rebuilt from its positions and triangles by build_mesh, which
+// links every pair of twin edges (triangles added one by one in any order
+// can leave fans in pieces, their edges open: the curvature metric treats
+// open edges as boundaries, feature curves its fits do not cross).
+SurfaceMesh rebuilt(const SurfaceMesh& m) {
+  MeshData d;
+  for (int i = 0; i < m.vertex_capacity(); ++i) d.vertices.push_back(m.position(Vertex(i)));
+  for (Triangle t : m.triangles()) {
+    const int* v = m.triangle_vertices(t);
+    d.triangles.push_back({v[0], v[1], v[2]});
+  }
+  SurfaceMesh out;
+  build_mesh(d, out);
+  return out;
+}
+
 }  // namespace
 
 TEST_CASE("hessian: the quadratic and cubic fits are exact for quadratics on irregular flat meshes") {
@@ -200,12 +218,14 @@ TEST_CASE("hessian: curvature of the sphere and the geometric metric for hausd")
     return worst;
   };
   const double e3 = curvature_error(icosphere(3)), e4 = curvature_error(icosphere(4));
-  const SurfaceMesh m = icosphere(4);
+  const SurfaceMesh m = rebuilt(icosphere(4));
   MESSAGE("curvature of the unit sphere: max error " << e3 << " (1280 triangles), " << e4 << " (5120)");
   CHECK(e4 < 0.01);
   CHECK(e3 / e4 > 3.5);  // second order
   // Sizes sqrt(8 hausd / kappa) in the tangent plane; the normal gets the same.
-  const double hausd = 1e-3;
+  // hausd 1e-2: the facets (edges 0.1) sag by 1.2e-3, below hausd / 4, so the
+  // creases between them ask for less than the curvature.
+  const double hausd = 1e-2;
   const MetricField M = curvature_metric(m, hausd);
   for (int i = 0; i < m.vertex_capacity(); i += 7) {
     const SizesDirections sd = sizes_and_directions(M[i]);
@@ -214,15 +234,21 @@ TEST_CASE("hessian: curvature of the sphere and the geometric metric for hausd")
   // hmax caps the sizes of a flat region: the irregular plane.
   MetricBounds b;
   b.hmax = 0.3;
-  const SurfaceMesh flat = irregular_plane(8, Vec3(), Vec3(1, 0, 0), Vec3(0, 1, 0), 5);
+  // Its boundary is a feature curve: tagged (corners where it turns) as adapt does.
+  SurfaceMesh flat = rebuilt(irregular_plane(8, Vec3(), Vec3(1, 0, 0), Vec3(0, 1, 0), 5));
+  detect_features(flat);
   const MetricField F = curvature_metric(flat, hausd, b);
   for (const SymTensor3& X : F) CHECK(frobenius_norm(X - isotropic_metric(0.3)) < 1e-9 * frobenius_norm(X));
 }
 
 TEST_CASE("hessian: the geometric metric of a cylinder: sqrt(8 hausd r) across, hmax along the axis") {
-  const double r = 2, hausd = 1e-3, hmax = 1.5;
+  // hausd 5e-2: the facets (edges 0.13) sag by 2e-3, far below hausd / 4, so
+  // neither the creases between them across the axis nor those of the
+  // diagonals (a chord along the axis crosses them) ask for less than the
+  // curvature and hmax.
+  const double r = 2, hausd = 5e-2, hmax = 1.5;
   const int n = 96, k = 40;
-  const SurfaceMesh m = cylinder(r, n, k);
+  const SurfaceMesh m = rebuilt(cylinder(r, n, k));
   MetricBounds b;
   b.hmax = hmax;
   const MetricField M = curvature_metric(m, hausd, b);

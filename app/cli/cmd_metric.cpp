@@ -9,6 +9,7 @@
 #include "cli/cli.h"
 #include "cli/metric_options.h"
 #include "core/error.h"
+#include "geometry/features.h"
 #include "io/mesh_io.h"
 #include "metric/expression.h"
 #include "metric/hessian.h"
@@ -207,6 +208,9 @@ int run_metric(const std::vector<std::string>& args) {
     throw UsageError{"--hessian-of-field is an option of `anisurf adapt` (with --interpolate F.sol)"};
   const auto t0 = std::chrono::steady_clock::now();
   LoadedMetric l = load_mesh_and_metric(pos[0], mo.sol, build);
+  // The curvature metric is fitted per smooth sector between the feature
+  // curves: tag them as `adapt` does (default ridge angle).
+  if (mo.curvature || hausd > 0) detect_features(l.mesh);
   const SurfaceMesh& mesh = l.mesh;
   MetricRecipe recipe = metric_recipe(mo, std::move(l.metric), hausd, std::isnan(hgrad) ? 0 : hgrad);
   recipe.hgrad_space = grad.space;

@@ -62,6 +62,35 @@ std::vector<FeatureEdgeAt> feature_edges_at(const SurfaceMesh& mesh, Vertex v) {
   return out;
 }
 
+std::vector<std::vector<Corner>> smooth_sectors(const SurfaceMesh& mesh, Vertex v) {
+  std::vector<std::vector<Corner>> out;
+  const std::vector<Corner> fan = mesh.fan(v);
+  if (fan.empty()) return out;
+  const int n = static_cast<int>(fan.size());
+  // Edge between fan[i] and fan[i+1] is opposite next(fan[i]).
+  auto cut_after = [&](int i) { return is_feature_edge(mesh, SurfaceMesh::next(fan[i])); };
+  int start = 0;
+  if (!mesh.is_boundary(v)) {
+    start = -1;
+    for (int i = 0; i < n; ++i)
+      if (cut_after(i)) {
+        start = (i + 1) % n;
+        break;
+      }
+    if (start < 0) {
+      out.push_back(fan);
+      return out;
+    }
+  }
+  out.emplace_back();
+  for (int k = 0; k < n; ++k) {
+    const int i = (start + k) % n;
+    out.back().push_back(fan[i]);
+    if (k + 1 < n && cut_after(i)) out.emplace_back();
+  }
+  return out;
+}
+
 double curve_turn(const SurfaceMesh& mesh, Vertex v, const FeatureEdgeAt& a, const FeatureEdgeAt& b) {
   const Vec3& p = mesh.position(v);
   return std::numbers::pi - angle_between(mesh.position(a.other) - p, mesh.position(b.other) - p);

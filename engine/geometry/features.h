@@ -63,6 +63,11 @@ struct FeatureEdgeAt {
 };
 std::vector<FeatureEdgeAt> feature_edges_at(const SurfaceMesh& mesh, Vertex v);
 
+// Smooth sectors of v's fan: runs of consecutive (counter-clockwise) corners
+// between feature edges (one run, the whole fan, off the features; one per
+// side on a ridge; one per face at a corner). Empty for an isolated vertex.
+std::vector<std::vector<Corner>> smooth_sectors(const SurfaceMesh& mesh, Vertex v);
+
 // How far a feature curve turns at v between its edges a and b (0 = straight
 // on, pi = folding back), in radians.
 double curve_turn(const SurfaceMesh& mesh, Vertex v, const FeatureEdgeAt& a, const FeatureEdgeAt& b);

@@ -29,37 +29,6 @@ double corner_angle(const SurfaceMesh& mesh, Corner c) {
   return std::atan2(norm(cross(a, b)), dot(a, b));
 }
 
-// Sectors of v's fan: runs of consecutive (counter-clockwise) corners between
-// feature edges.
-std::vector<std::vector<Corner>> sectors_of(const SurfaceMesh& mesh, Vertex v) {
-  std::vector<std::vector<Corner>> out;
-  const std::vector<Corner> fan = mesh.fan(v);
-  if (fan.empty()) return out;
-  const int n = static_cast<int>(fan.size());
-  // Edge between fan[i] and fan[i+1] is opposite next(fan[i]).
-  auto cut_after = [&](int i) { return is_feature_edge(mesh, SurfaceMesh::next(fan[i])); };
-  int start = 0;
-  if (!mesh.is_boundary(v)) {
-    start = -1;
-    for (int i = 0; i < n; ++i)
-      if (cut_after(i)) {
-        start = (i + 1) % n;
-        break;
-      }
-    if (start < 0) {
-      out.push_back(fan);
-      return out;
-    }
-  }
-  out.emplace_back();
-  for (int k = 0; k < n; ++k) {
-    const int i = (start + k) % n;
-    out.back().push_back(fan[i]);
-    if (k + 1 < n && cut_after(i)) out.emplace_back();
-  }
-  return out;
-}
-
 // Least-squares height-function fit; returns false when ill-posed.
 class LocalFit {
  public:
@@ -391,7 +360,7 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
 
   for (Vertex vh : mesh.vertices()) {
     if (mesh.is_isolated(vh)) continue;
-    const auto sectors = sectors_of(mesh, vh);
+    const auto sectors = smooth_sectors(mesh, vh);
     for (const auto& sector : sectors) {
       // angle-weighted normal
       Vec3 n;

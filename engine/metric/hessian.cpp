@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "geometry/features.h"
 #include "mesh/operators.h"
 #include "metric/surface_metric.h"
 
@@ -13,38 +14,118 @@ namespace anisurf {
 namespace {
 
 // Vertices within `rings` edges of v (v excluded), grown until min_points.
+// With the feature flags set (set_features), the neighbourhood stays on one
+// side of the feature curves: it starts from the triangles of one smooth
+// sector of v (set_sector; the whole fan when none) and, at a vertex on a
+// feature curve, enters only the sectors it already reached there, so that no
+// point beyond a ridge, a boundary or a reference interface is collected
+// (away from the features: the same rings, in the same order).
 class RingCollector {
  public:
   explicit RingCollector(const SurfaceMesh& mesh) : mesh_(mesh), seen_(mesh.vertex_capacity(), 0) {}
 
+  // Per vertex slot: 1 on a feature edge. Null: plain rings.
+  void set_features(const std::vector<char>* on_feature) {
+    on_feature_ = on_feature;
+    if (on_feature_) triangle_seen_.assign(static_cast<std::size_t>(mesh_.triangle_capacity()), 0);
+  }
+  // The corners of v's fan the next collections start from (null: all), and
+  // whether they may meet the feature curves at all (false: plain rings,
+  // without the bookkeeping of the sides).
+  void set_sector(const std::vector<Corner>* sector, bool near_features = true) {
+    sector_ = sector;
+    near_features_ = near_features;
+    last_ = {-1, 0, 0};
+  }
+
+  // The same request twice in a row (the normal fit, then the curvature fit
+  // at the same vertex) is answered from the last collection.
   const std::vector<int>& collect(Vertex v, int rings, int min_points) {
+    const std::array<int, 3> request{v.idx, rings, min_points};
+    if (request == last_) return out_;
+    last_ = request;
+    met_features_ = false;
     out_.clear();
     seen_[v.idx] = 1;
     std::size_t begin = 0;
-    add_ring_of(v);
+    add_ring_of(v, true);
     for (int r = 1; r < 4 && (r < rings || static_cast<int>(out_.size()) < min_points); ++r) {
       const std::size_t end = out_.size();
-      for (std::size_t i = begin; i < end; ++i) add_ring_of(Vertex(out_[i]));
+      for (std::size_t i = begin; i < end; ++i) add_ring_of(Vertex(out_[i]), false);
       begin = end;
     }
     seen_[v.idx] = 0;
     for (int w : out_) seen_[w] = 0;
+    for (int t : triangles_) triangle_seen_[t] = 0;
+    triangles_.clear();
     return out_;
   }
 
+  // True when the last collection passed a vertex on a feature curve (its
+  // points are then one-sided there).
+  bool met_features() const { return met_features_; }
+
  private:
-  void add_ring_of(Vertex u) {
-    for (Corner c : mesh_.fan_corners(u))
-      for (Vertex w : {mesh_.vertex(SurfaceMesh::next(c)), mesh_.vertex(SurfaceMesh::prev(c))})
-        if (!seen_[w.idx]) {
-          seen_[w.idx] = 1;
-          out_.push_back(w.idx);
-        }
+  void add_ring_of(Vertex u, bool centre) {
+    if (!sided()) {
+      for (Corner c : mesh_.fan_corners(u)) add_triangle_of(c);
+      return;
+    }
+    if ((*on_feature_)[u.idx]) met_features_ = true;
+    if (!(*on_feature_)[u.idx] && !(centre && sector_)) {
+      for (Corner c : mesh_.fan_corners(u)) add_triangle_of(c);
+      return;
+    }
+    fan_ = mesh_.fan(u);
+    const int n = static_cast<int>(fan_.size());
+    allowed_.assign(fan_.size(), 0);
+    for (int i = 0; i < n; ++i)
+      allowed_[i] = centre ? (!sector_ || std::find(sector_->begin(), sector_->end(), fan_[i]) != sector_->end())
+                           : triangle_seen_[SurfaceMesh::triangle(fan_[i]).idx];
+    // Spread over the edges between consecutive fan triangles that are not
+    // feature edges: whole sectors (closed fans wrap around).
+    const bool closed = !mesh_.is_boundary(u);
+    auto joined = [&](int i) { return (closed || i + 1 < n) && !is_feature_edge(mesh_, SurfaceMesh::next(fan_[i])); };
+    for (int k = 0; k < 2 * n; ++k) {
+      const int i = k % n;
+      if (allowed_[i] && joined(i)) allowed_[(i + 1) % n] = 1;
+    }
+    for (int k = 2 * n - 1; k >= 0; --k) {
+      const int i = k % n;
+      if (allowed_[(i + 1) % n] && joined(i)) allowed_[i] = 1;
+    }
+    for (int i = 0; i < n; ++i)
+      if (allowed_[i]) add_triangle_of(fan_[i]);
+  }
+
+  bool sided() const { return on_feature_ && near_features_; }
+
+  void add_triangle_of(Corner c) {
+    if (sided()) {
+      const int t = SurfaceMesh::triangle(c).idx;
+      if (!triangle_seen_[t]) {
+        triangle_seen_[t] = 1;
+        triangles_.push_back(t);
+      }
+    }
+    for (Vertex w : {mesh_.vertex(SurfaceMesh::next(c)), mesh_.vertex(SurfaceMesh::prev(c))})
+      if (!seen_[w.idx]) {
+        seen_[w.idx] = 1;
+        out_.push_back(w.idx);
+      }
   }
 
   const SurfaceMesh& mesh_;
   std::vector<char> seen_;
   std::vector<int> out_;
+  const std::vector<char>* on_feature_ = nullptr;
+  const std::vector<Corner>* sector_ = nullptr;
+  std::vector<char> triangle_seen_, allowed_;
+  std::vector<int> triangles_;
+  std::vector<Corner> fan_;
+  std::array<int, 3> last_{-1, 0, 0};
+  bool met_features_ = false;
+  bool near_features_ = true;
 };
 
 // How a vertex's derivatives were obtained.
@@ -205,9 +286,9 @@ class PivotedQR {
 
 // Least-squares fit of the full polynomial. False (writing nothing) when the
 // points do not determine it.
-bool solve_full(const LocalSystem& ls, PivotedQR& qr, Vec3& gradient, SymTensor3& hessian) {
+bool solve_full(const LocalSystem& ls, PivotedQR& qr, double rank_threshold, Vec3& gradient, SymTensor3& hessian) {
   if (ls.A.rows() < ls.A.cols()) return false;
-  if (!qr.factor_full_rank(ls.A, 1e-10)) return false;
+  if (!qr.factor_full_rank(ls.A, rank_threshold)) return false;
   std::array<double, PivotedQR::kMaxColumns> a{};
   qr.solve(ls.b, a.data());
   write_derivatives(ls, a.data(), gradient, hessian);
@@ -293,12 +374,17 @@ int solve_reduced(const LocalSystem& ls, Vec3& gradient, SymTensor3& hessian) {
   return resolved;
 }
 
+constexpr double kFullRankThreshold = 1e-10;
+
 // What the fits at one vertex after another reuse.
 struct FitWorkspace {
   explicit FitWorkspace(const SurfaceMesh& mesh) : rings(mesh) {}
   RingCollector rings;
   LocalSystem system;
   PivotedQR qr;
+  // A pivot of the full fit at most this times the largest one means the
+  // points do not determine the polynomial (the reduced fit takes over).
+  double rank_threshold = kFullRankThreshold;
 };
 
 int min_points(const HessianRecoveryOptions& o) { return std::max(o.min_points, o.degree >= 3 ? 12 : 6); }
@@ -318,7 +404,7 @@ FitKind fit_at(const SurfaceMesh& mesh, Vertex v, FitWorkspace& work, const Vec3
   for (int degree = top; degree >= 2; --degree)
     for (int r = o.rings; r <= widest; ++r)
       if (solve_full(local_system(mesh, v, work.rings.collect(v, r, min_points(o)), n, degree, value, work.system),
-                     work.qr, gradient, hessian))
+                     work.qr, work.rank_threshold, gradient, hessian))
         return FitKind::Full;
   int best = 0;
   for (int degree = top; degree >= 2 && best == 0; --degree)
@@ -423,6 +509,76 @@ std::vector<SymTensor3> second_fundamental_form(const SurfaceMesh& mesh, const s
   const int missing = fill_unfitted(mesh, out, fitted, SymTensor3());
   if (unfitted) *unfitted = missing;
   return out;
+}
+
+// Per vertex slot: 1 within `rings` edges of a vertex on a feature curve
+// (the ring collections that can reach the curves: RingCollector expands up
+// to its third ring).
+std::vector<char> within_rings_of_features(const SurfaceMesh& mesh, const std::vector<char>& on_feature, int rings) {
+  std::vector<char> near = on_feature;
+  std::vector<int> front;
+  for (Vertex v : mesh.vertices())
+    if (on_feature[v.idx]) front.push_back(v.idx);
+  for (int r = 0; r < rings && !front.empty(); ++r) {
+    std::vector<int> next;
+    for (int u : front)
+      for (Vertex w : mesh.ring_vertices(Vertex(u)))
+        if (!near[w.idx]) {
+          near[w.idx] = 1;
+          next.push_back(w.idx);
+        }
+    front.swap(next);
+  }
+  return near;
+}
+
+// The largest curvature of a circle tangent to the plane of n at v through
+// one of the points: 2 |depth| / distance^2. A quadric fitted on the points
+// bends no more than that in the directions they sample.
+double largest_point_curvature(const SurfaceMesh& mesh, Vertex v, const Vec3& n, const std::vector<int>& points) {
+  const Vec3& p0 = mesh.position(v);
+  double largest = 0;
+  for (int w : points) {
+    const Vec3 d = mesh.position(Vertex(w)) - p0;
+    const double d2 = norm2(d);
+    if (d2 > 0) largest = std::fmax(largest, 2.0 * std::fabs(dot(d, n)) / d2);
+  }
+  return largest;
+}
+
+// The tangent form with its eigenvalues clamped to [-cap, cap].
+SymTensor3 cap_curvature(const SymTensor3& form, const Vec3& n, double cap) {
+  const auto frame = tangent_frame(n);
+  SymEigen2 e = eigen_decompose(restrict_to_tangent(form, frame[0], frame[1]));
+  if (std::fabs(e.values[0]) <= cap && std::fabs(e.values[1]) <= cap) return form;
+  for (double& k : e.values) k = std::clamp(k, -cap, cap);
+  return extend_from_tangent(compose(e.values, e.angle), frame[0], frame[1], 0.0);
+}
+
+// Vertices off the features whose neighbours do not determine a fit take
+// the mean of their neighbours' forms (fill_unfitted; a vertex on a feature
+// curve lends its first fitted sector). Sectors of vertices on feature
+// curves without a fit stay flat: they are narrower than any neighbourhood
+// on their side (a strip or a single triangle between feature curves), whose
+// bending the curves' own curvature carries.
+void fill_unfitted_single_sectors(const SurfaceMesh& mesh, SectorCurvatures& sc, const std::vector<char>& fitted) {
+  std::vector<SymTensor3> value(static_cast<std::size_t>(mesh.vertex_capacity()));
+  std::vector<char> known(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
+  bool any_missing = false;
+  for (Vertex v : mesh.vertices())
+    for (int s = sc.first[v.idx]; s < sc.first[v.idx + 1]; ++s)
+      if (fitted[s] && !known[v.idx]) {
+        value[v.idx] = sc.form[s];
+        known[v.idx] = 1;
+      } else if (!fitted[s] && !sc.on_feature[v.idx]) {
+        any_missing = true;
+      }
+  if (!any_missing) return;
+  for (Vertex v : mesh.vertices())
+    if (sc.on_feature[v.idx]) known[v.idx] = 1;  // not filled: their unfitted sectors stay flat
+  sc.unfitted = fill_unfitted(mesh, value, known, SymTensor3());
+  for (Vertex v : mesh.vertices())
+    if (!sc.on_feature[v.idx] && sc.first[v.idx + 1] > sc.first[v.idx]) sc.form[sc.first[v.idx]] = value[v.idx];
 }
 
 }  // namespace
@@ -552,18 +708,68 @@ MetricField hessian_metric(const SurfaceMesh& mesh, const std::vector<SymTensor3
   return build(std::sqrt(lo * hi));
 }
 
-MetricField curvature_metric(const SurfaceMesh& mesh, double hausd, const MetricBounds& bounds_in,
-                             const HessianRecoveryOptions& options) {
-  if (!(hausd > 0)) throw MetricError("curvature metric: hausd must be > 0");
-  MetricBounds bounds = bounds_in;
-  bounds.hmax = default_hmax(mesh, bounds.hmax);
-  const std::vector<Vec3> normal = fitted_normals(mesh, options);
-  const std::vector<SymTensor3> II = second_fundamental_form(mesh, normal, options, nullptr);
-  const double floor = 8.0 * hausd / (bounds.hmax * bounds.hmax);  // |kappa| giving hmax
-  MetricField M(mesh.vertex_capacity(), SymTensor3::identity());
-  for (Vertex v : mesh.vertices())
-    M[v.idx] = clamp_metric(tangent_metric(tangent_abs(II[v.idx], normal[v.idx], floor), 1.0 / (8.0 * hausd)), bounds);
-  return M;
+SymTensor3 absolute_tangent_metric(const SymTensor3& H, const Vec3& unit_normal, double floor, double scale) {
+  return tangent_metric(tangent_abs(H, unit_normal, floor), scale);
+}
+
+SectorCurvatures recover_sector_curvature(const SurfaceMesh& mesh, const HessianRecoveryOptions& options) {
+  SectorCurvatures out;
+  const int nv = mesh.vertex_capacity();
+  out.on_feature.assign(static_cast<std::size_t>(nv), 0);
+  for (Corner c : mesh.edges())
+    if (is_feature_edge(mesh, c)) out.on_feature[mesh.edge_from(c).idx] = out.on_feature[mesh.edge_to(c).idx] = 1;
+  out.first.assign(static_cast<std::size_t>(nv) + 1, 0);
+  out.normal.reserve(static_cast<std::size_t>(mesh.n_vertices()));
+  out.form.reserve(static_cast<std::size_t>(mesh.n_vertices()));
+  std::vector<char> fitted;
+  fitted.reserve(static_cast<std::size_t>(mesh.n_vertices()));
+  const std::vector<char> near = within_rings_of_features(mesh, out.on_feature, 3);
+  FitWorkspace work(mesh);
+  work.rings.set_features(&out.on_feature);
+  const std::vector<std::vector<Corner>> whole_fan(1);  // one sector, the whole fan
+  std::vector<std::vector<Corner>> split_sectors;
+  for (int i = 0; i < nv; ++i) {
+    out.first[i] = static_cast<int>(out.form.size());
+    const Vertex v(i);
+    if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+    if (out.on_feature[i]) split_sectors = smooth_sectors(mesh, v);
+    const std::vector<std::vector<Corner>>& sectors = out.on_feature[i] ? split_sectors : whole_fan;
+    const Vec3 p0 = mesh.position(v);
+    for (const std::vector<Corner>& sector : sectors) {
+      const bool whole = sector.empty();
+      work.rings.set_sector(whole ? nullptr : &sector, near[i] != 0);
+      // Points on one side of a feature curve: the stricter rank test and the cap.
+      work.rings.collect(v, options.rings, min_points(options));
+      const bool one_sided = work.rings.met_features();
+      work.rank_threshold = one_sided ? options.sector_rank_threshold : kFullRankThreshold;
+      Vec3 n;
+      if (whole)
+        for (Corner c : mesh.fan_corners(v)) n += mesh.triangle_normal(SurfaceMesh::triangle(c));
+      else
+        for (Corner c : sector) n += mesh.triangle_normal(SurfaceMesh::triangle(c));
+      n = normalized(n);
+      // The tangent plane from the fitted heights (as fitted_normals), then
+      // the depth below it (as recover_curvature), on the same points.
+      Vec3 slope;
+      SymTensor3 form;
+      if (fit_at(mesh, v, work, n, options, [&](Vertex w) { return dot(mesh.position(w) - p0, n); }, slope, form) !=
+          FitKind::None)
+        n = normalized(n - slope);
+      form = SymTensor3();
+      Vec3 g;
+      const bool ok = fit_at(mesh, v, work, n, options, [&](Vertex w) { return -dot(mesh.position(w) - p0, n); }, g,
+                             form) != FitKind::None;
+      if (ok && one_sided)
+        form = cap_curvature(form, n,
+                             largest_point_curvature(mesh, v, n, work.rings.collect(v, options.rings, min_points(options))));
+      out.normal.push_back(n);
+      out.form.push_back(ok ? form : SymTensor3());
+      fitted.push_back(ok);
+    }
+  }
+  out.first[nv] = static_cast<int>(out.form.size());
+  fill_unfitted_single_sectors(mesh, out, fitted);
+  return out;
 }
 
 }  // namespace anisurf

@@ -30,6 +30,12 @@ struct HessianRecoveryOptions {
   // points do not determine the polynomial (grid corners, tiny meshes).
   int rings = 2;
   int min_points = 12;  // grow the neighbourhood until it has this many points
+  // Sector fits whose points stop at a feature curve (recover_sector_curvature:
+  // at and near the curves): the points are one-sided and often lie near two
+  // curves (long thin triangles between parallel feature curves), so the full
+  // fit is taken only when its smallest pivot is at least this fraction of
+  // the largest; below, the reduced fit sets the undetermined terms to zero.
+  double sector_rank_threshold = 1e-3;
 };
 
 // Derivatives of a field on the surface, per vertex slot, in 3D form.
@@ -128,9 +134,39 @@ HessianMetricOptions cycle_metric_defaults();
 MetricField hessian_metric(const SurfaceMesh& mesh, const std::vector<SymTensor3>& hessian,
                            const HessianMetricOptions& options);
 
-// Geometric metric: sizes h_i = sqrt(8 hausd / |kappa_i|) along the principal
-// directions (a chord of length h on a circle of curvature kappa deviates by
-// kappa h^2 / 8), clamped by bounds (hmax = infinity: the bounding-box diagonal).
+// Second fundamental forms per smooth sector (geometry/features.h
+// smooth_sectors): one per vertex off the feature curves, one per sector
+// (the triangles between two feature edges) at a vertex on them. Each is
+// fitted as recover_curvature does, on the points reached from the sector
+// without crossing a feature edge (ridge, boundary, reference interface), in
+// the tangent plane fitted on those points: a flat face beside a sharp edge
+// has no curvature from the edge, and each side of a ridge has its own.
+// Where the points stop at a feature curve they are one-sided: the fit is
+// taken at a stricter rank (sector_rank_threshold) and its curvatures capped
+// by the largest 2 |depth| / distance^2 of its points (a quadric through the
+// points bends no more than that where they sample it).
+// Away from the features the points, normals and forms are recover_curvature's.
+struct SectorCurvatures {
+  std::vector<int> first;        // per vertex slot (and one past the last): its sectors are first[v] .. first[v+1]-1
+  std::vector<Vec3> normal;      // per sector: unit normal of the fitted tangent plane
+  std::vector<SymTensor3> form;  // per sector: tangent tensor, eigenvalues the principal curvatures
+  std::vector<char> on_feature;  // per vertex slot: 1 on a feature edge
+  int unfitted = 0;              // vertices off the features filled from their neighbours
+};
+SectorCurvatures recover_sector_curvature(const SurfaceMesh& mesh, const HessianRecoveryOptions& options = {});
+
+// scale |H| in the tangent plane of the unit normal, the absolute
+// eigenvalues floored at `floor`; the normal direction gets the smallest of
+// them (the largest tangent size).
+SymTensor3 absolute_tangent_metric(const SymTensor3& H, const Vec3& unit_normal, double floor, double scale);
+
+// Geometric metric for the chordal deviation hausd (metric/curvature_metric.cpp):
+// sizes h = sqrt(8 hausd / |kappa|) along the principal directions (a chord of
+// length h on a circle of curvature kappa deviates by kappa h^2 / 8) of each
+// smooth sector, and along each feature curve from the curve's own curvature;
+// clamped by bounds (hmax = infinity: the bounding-box diagonal). Uses the
+// mesh's feature tags (detect_features first; without them only boundaries
+// split the fans).
 MetricField curvature_metric(const SurfaceMesh& mesh, double hausd, const MetricBounds& bounds = {},
                              const HessianRecoveryOptions& options = {});
 

@@ -587,6 +587,29 @@ Corner swap(AdaptedMesh& m, Corner c) { return flip(m.mesh(), c); }
 
 // --- move ---------------------------------------------------------------------
 
+namespace {
+
+// Section 5's fidelity test for smoothing: an edge across the surface from
+// v's new place `at` to a ring neighbour sags off the input while the edge
+// as it is does not (smoothing must not undo what the splits and the
+// collapses' own test kept; an edge already off is left to the splits).
+bool moved_edge_sags_off_input(AdaptedMesh& m, Vertex v, const Placement& at, const std::vector<Vertex>& ring,
+                               const OperatorOptions& o) {
+  if (!(o.surface_sag > 0)) return false;
+  const SurfaceMesh& mesh = m.mesh();
+  for (Vertex w : ring) {
+    const Corner e = find_edge_corner(mesh, v, w);
+    if (e.is_valid() && is_feature_edge(mesh, e)) continue;  // curve segments: curve_sag_ok
+    if (sags_off_input(m, at.position, at.values.metric, at.normal, v, mesh.position(w), m.metric(w),
+                       m.surface_normal(w), w, false, o) &&
+        !edge_sags_off_input(m, v, w, o))
+      return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
   const SurfaceMesh& mesh = m.mesh();
   MovePlan plan;
@@ -670,6 +693,10 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
     // A vertex off the surface is projected whatever the quality (validity only).
     if ((m.on_surface(v) && !(q >= o.move_quality_factor * plan.quality_before)) || q <= 0) {
       last = Rejection::Quality;
+      continue;
+    }
+    if (m.on_surface(v) && moved_edge_sags_off_input(m, v, at, ring, o)) {
+      last = Rejection::Deviation;
       continue;
     }
     for (std::size_t i = 0; i < fan.size() && last == Rejection::None; ++i) {

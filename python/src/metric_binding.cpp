@@ -9,6 +9,7 @@
 
 #include "arrays.h"
 #include "bindings.h"
+#include "geometry/features.h"
 #include "mesh/build.h"
 #include "mesh_object.h"
 #include "metric/quality.h"
@@ -39,6 +40,9 @@ py::array_t<double> metric_on_arrays(py::handle vertices, py::handle triangles, 
     py::gil_scoped_release release;
     SurfaceMesh mesh;
     const BuildReport report = build_mesh(data, mesh, {}, "metric arrays");
+    // The curvature metric is fitted per smooth sector between the feature
+    // curves: tag them as adapt does.
+    if (recipe.source == MetricRecipe::Source::Curvature || recipe.hausd > 0) detect_features(mesh);
     const MetricResult built = build_metric(mesh, std::move(recipe), report.vertex_origin);
     const double nan = std::numeric_limits<double>::quiet_NaN();
     for (std::size_t i = 0; i < n; ++i) {
