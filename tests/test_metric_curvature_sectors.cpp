@@ -14,6 +14,7 @@
 #include "mesh/mesh_data.h"
 #include "metric/hessian.h"
 #include "metric/surface_metric.h"
+#include "test_geometry_util.h"
 #include "test_util.h"
 
 using namespace anisurf;
@@ -129,42 +130,12 @@ SurfaceMesh capped_cylinder(double r, double height, int n, int rows, int rings)
   return rebuilt(m);
 }
 
-// Icosahedron refined `levels` times by edge midpoints, on the unit sphere.
+// Icosahedron refined `levels` times by edge midpoints, on the unit sphere
+// (test_geometry_util.h), built as a user's file is.
 SurfaceMesh icosphere(int levels) {
-  const double t = (1 + std::sqrt(5.0)) / 2;
-  std::vector<Vec3> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  for (Vec3& q : p) q = normalized(q);
-  std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                       {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                       {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (int l = 0; l < levels; ++l) {
-    std::map<std::pair<int, int>, int> mid;
-    auto midpoint = [&](int a, int b) {
-      auto key = std::minmax(a, b);
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      p.push_back(normalized(p[a] + p[b]));
-      return mid[key] = static_cast<int>(p.size()) - 1;
-    };
-    std::vector<std::array<int, 3>> g;
-    for (const auto& tr : f) {
-      const int a = midpoint(tr[0], tr[1]), b = midpoint(tr[1], tr[2]), c = midpoint(tr[2], tr[0]);
-      g.push_back({tr[0], a, c});
-      g.push_back({tr[1], b, a});
-      g.push_back({tr[2], c, b});
-      g.push_back({a, b, c});
-    }
-    f.swap(g);
-  }
   SurfaceMesh m;
-  for (const Vec3& q : p) m.add_vertex(q);
-  for (auto tr : f) {
-    if (dot(cross(p[tr[1]] - p[tr[0]], p[tr[2]] - p[tr[0]]), p[tr[0]]) < 0) std::swap(tr[1], tr[2]);
-    m.add_triangle(Vertex(tr[0]), Vertex(tr[1]), Vertex(tr[2]));
-  }
-  return rebuilt(m);
+  build_mesh(test::icosphere(levels), m);
+  return m;
 }
 
 }  // namespace
