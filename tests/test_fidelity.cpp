@@ -16,10 +16,14 @@
 #include "locate/locator.h"
 #include "mesh/build.h"
 #include "metric/length.h"
+#include "metric/metric.h"
 #include "remesh/adapt.h"
+#include "test_distance_util.h"
+#include "test_geometry_util.h"
 #include "test_util.h"
 
 using namespace anisurf;
+using anisurf::test::max_distance_to_input;
 
 namespace {
 
@@ -27,19 +31,6 @@ double dihedral_deg(const SurfaceMesh& m, Corner c) {
   const Vec3 a = normalized(m.triangle_normal(SurfaceMesh::triangle(c)));
   const Vec3 b = normalized(m.triangle_normal(SurfaceMesh::triangle(m.opposite(c))));
   return std::atan2(norm(cross(a, b)), dot(a, b)) * 180.0 / std::numbers::pi;
-}
-
-// Largest distance from the output's vertices, edge midpoints and triangle
-// centroids to the input's triangles.
-double max_distance_to_input(const SurfaceMesh& out, const SurfaceMesh& in) {
-  Locator locator(in);
-  double worst = 0;
-  auto at = [&](const Vec3& x) { worst = std::max(worst, locator.project(x).distance); };
-  for (Vertex v : out.vertices()) at(out.position(v));
-  for (Corner c : out.edges()) at(0.5 * (out.position(out.edge_from(c)) + out.position(out.edge_to(c))));
-  for (Triangle t : out.triangles())
-    at((out.position(out.vertex(t, 0)) + out.position(out.vertex(t, 1)) + out.position(out.vertex(t, 2))) / 3.0);
-  return worst;
 }
 
 // Share of the input's sharp edges (dihedral >= 44.5 degrees) whose points at
@@ -214,4 +205,54 @@ TEST_CASE("fidelity: a circular interface between two references stays on its ci
   }
   CHECK(interface_vertices >= 2 * 50);  // the arc is 1.18 long: ~59 edges of 0.02
   CHECK(worst <= 1e-6);                 // the chords' sagitta: 2.3e-3
+}
+
+TEST_CASE("fidelity: a given metric gets the geometry protection, hausd = diagonal/1000, and stays within it") {
+  // A coarse isotropic metric given as a field on the unit sphere: its chords
+  // would sag by 0.5^2 / 8 = 0.03, ten times diagonal / 1000.
+  SurfaceMesh in;
+  build_mesh(test::icosphere(4), in);
+  const double diagonal = in.bbox().diagonal();
+  remesh::AdaptOptions o;
+  o.metric.source = MetricRecipe::Source::Given;
+  o.metric.given = MetricField(static_cast<std::size_t>(in.vertex_capacity()), isotropic_metric(0.5));
+  remesh::AdaptOptions unprotected = o;
+  unprotected.protect_fraction = 0;
+
+  const remesh::AdaptResult r = remesh::adapt({in}, o);
+  REQUIRE(r.mesh.validate().ok());
+  CHECK(r.protection_hausd == doctest::Approx(diagonal / 1000));
+  CHECK(max_distance_to_input(r.mesh, in) <= 1.2 * r.protection_hausd);
+
+  const remesh::AdaptResult u = remesh::adapt({in}, unprotected);
+  REQUIRE(u.mesh.validate().ok());
+  CHECK(u.protection_hausd == 0);
+  CHECK(max_distance_to_input(u.mesh, in) > 5 * diagonal / 1000);
+  CHECK(u.mesh.n_vertices() < r.mesh.n_vertices());
+
+  // An isotropic size is met as asked: no protection.
+  remesh::AdaptOptions iso;
+  iso.metric.source = MetricRecipe::Source::Iso;
+  iso.metric.iso = 0.5;
+  CHECK(remesh::adapt({in}, iso).protection_hausd == 0);
+}
+
+TEST_CASE("fidelity: --hausd is a bound with the gradation off, on a surface with creases below the ridge angle") {
+  // A CAD part of slivers with creases below the ridge angle and fillets:
+  // the curvature metric without gradation jumps from size to size, and the
+  // operators' own sag tests leave points beyond hausd that the final pass
+  // splits onto the input.
+  ANISURF_REQUIRE_SHARED(path, "meshes/fixed_top.ply");
+  const SurfaceMesh in = load_mesh(path);
+  const double hausd = 1e-3 * in.bbox().diagonal();
+  remesh::AdaptOptions o;
+  o.metric.source = MetricRecipe::Source::Curvature;
+  o.metric.hausd = hausd;
+  o.metric.hgrad = 0;
+  const remesh::AdaptResult r = remesh::adapt({in}, o);
+  REQUIRE(r.mesh.validate().ok());
+  const double distance = max_distance_to_input(r.mesh, in);
+  MESSAGE("fixed_top, hausd " << hausd << ", gradation off: " << r.mesh.n_triangles() << " triangles, distance "
+                               << distance / hausd << " hausd");
+  CHECK(distance <= 1.2 * hausd);
 }

@@ -55,7 +55,11 @@ const char* kAdaptHelp =
     "  --hausd D            chordal deviation: the metric is intersected with the\n"
     "                       curvature metric of D (also -hausd); new vertices stay\n"
     "                       within D / 5 of the input surface and feature curves sag\n"
-    "                       by D at most\n"
+    "                       by D at most; at the end, edge midpoints and triangle\n"
+    "                       centroids farther than D from the input are split onto it.\n"
+    "                       Without --hausd, a metric from a .sol, a field, --tensor or\n"
+    "                       a Hessian gets D = diagonal / 1000 (geometry protection,\n"
+    "                       printed); --hausd 0: none. An isotropic --size has none.\n"
     "  --hgrad R            size gradation ratio (default 1.3, Mmg's); -1 or 0: off\n"
     "  --ar DEG             ridge detection angle (default 45); --nr: no detection\n"
     "                       (also -ar, -nr); ridges and boundaries stay curves, corners stay\n"
@@ -152,6 +156,8 @@ nlohmann::json pass_json(const remesh::PassReport& r) {
   j["moves"] = r.moves;
   j["removed_vertices"] = r.removed_vertices;
   j["split_unprojected"] = r.split_unprojected;
+  j["bound_splits"] = r.bound_splits;
+  j["beyond_bound"] = r.beyond_bound;
   nlohmann::json rej = nlohmann::json::object();
   for (int i = 1; i < remesh::kRejectionCount; ++i)
     if (r.rejected[i]) rej[std::string(remesh::rejection_name(static_cast<remesh::Rejection>(i)))] = r.rejected[i];
@@ -481,6 +487,12 @@ void print_summary(const AdaptCommandLine& c, int cycles, const remesh::AdaptRes
                 r.fixed_point ? " (fixed point: the vertex count changed by less than the tolerance)" : "");
   std::printf("operations   %d splits, %d collapses, %d swaps, %d moves, %d removed (valence < 4)\n", splits,
               collapses, swaps, moves, removed);
+  const double bound = c.hausd > 0 ? c.hausd : r.protection_hausd;
+  if (bound > 0 && !r.cycles.back().passes.empty()) {
+    const remesh::PassReport& last = r.cycles.back().passes.back();
+    std::printf("distance     %d splits onto the input; %d edge midpoints or centroids farther than %.4g (hausd)\n",
+                last.bound_splits, last.beyond_bound, bound);
+  }
   std::printf("remeshing    %.2f s, %s operations per second\n", run_seconds,
               format_rate(splits + collapses + swaps + moves + removed, run_seconds).c_str());
   if (embeds_fields(c.out))
@@ -508,11 +520,19 @@ int run_adapt(const std::vector<std::string>& args) {
   const auto t_read = std::chrono::steady_clock::now();
   AdaptFiles files = read_adapt_inputs(c);
   c.options.metric = metric_recipe(c.metric, std::move(files.sol_metric), c.hausd, c.hgrad);
+  if (c.hausd == 0) c.options.protect_fraction = 0;  // --hausd 0: no geometry protection
   SurfaceMesh separate_geometry;
   if (!c.geometry.empty()) {
     separate_geometry = load_mesh(c.geometry);
     files.input.geometry = &separate_geometry;
   }
+  const SurfaceMesh& tg = files.input.geometry ? *files.input.geometry : files.input.mesh;
+  const double protection = c.hausd > 0 ? 0 : remesh::effective_hausd(c.options, tg.bbox().diagonal());
+  if (protection > 0 && c.verbose >= 1)
+    std::fprintf(stderr,
+                 "adapt: geometry protection: the metric is intersected with the curvature metric of hausd %.4g "
+                 "(%g x the bounding-box diagonal; --hausd D to choose it, --hausd 0: off)\n",
+                 protection, c.options.protect_fraction);
   const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_read).count();
   const int verbose = c.verbose;
   const int cycles = c.options.cycles;

@@ -146,7 +146,7 @@ void metric_panel(EditorSession& s, PanelState& p) {
   e.hgrad = hgrad;
   if (e.source != MetricSettings::Source::Curvature) {
     ImGui::SetNextItemWidth(200);
-    track(ImGui::InputDouble("hausd bound (0: none)", &e.hausd_bound, 0, 0, "%.4g"));
+    track(ImGui::InputDouble("hausd bound (0: diagonal/1000 for a .sol or a Hessian)", &e.hausd_bound, 0, 0, "%.4g"));
   }
   ImGui::SetNextItemWidth(200);
   track(ImGui::InputDouble("hmin", &e.hmin, 0, 0, "%.4g"));
@@ -334,6 +334,8 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
   ImGui::Text("pass %d of %d: %s", shown, n - 1, snap->label.c_str());
   ImGui::Text("split %d  collapse %d  swap %d  move %d  removed %d", r.splits, r.collapses, r.swaps, r.moves,
               r.removed_vertices);
+  if (r.bound_splits > 0 || r.beyond_bound > 0)
+    ImGui::Text("hausd bound: %d splits onto the input, %d points still beyond", r.bound_splits, r.beyond_bound);
   std::string rej;
   for (int i = 1; i < remesh::kRejectionCount; ++i)
     if (r.rejected[i])

@@ -170,7 +170,7 @@ MetricRecipe EditorSession::metric_recipe(const MetricSettings& s, MetricField l
   MetricRecipe r;
   r.bounds = {s.hmin, s.hmax, s.max_aniso};
   r.hgrad = s.hgrad;
-  r.hausd = s.hausd_bound > 0 ? s.hausd_bound : 0;
+  r.hausd = effective_hausd(s);
   switch (s.source) {
     case MetricSettings::Source::Iso:
       r.source = S::Iso;
@@ -213,6 +213,17 @@ MetricRecipe EditorSession::metric_recipe(const MetricSettings& s, MetricField l
     }
   }
   return r;
+}
+
+double EditorSession::effective_hausd(const MetricSettings& s) const {
+  if (s.source == MetricSettings::Source::Curvature) return s.hausd;
+  MetricRecipe r;
+  r.hausd = s.hausd_bound > 0 ? s.hausd_bound : 0;
+  r.source = s.source == MetricSettings::Source::Iso    ? MetricRecipe::Source::Iso
+             : s.source == MetricSettings::Source::Size ? MetricRecipe::Source::Size
+             : s.source == MetricSettings::Source::Sol  ? MetricRecipe::Source::Given
+                                                         : MetricRecipe::Source::Hessian;
+  return remesh::effective_hausd(r, adapt_settings_.protect_fraction, input_ ? geometry_input().bbox().diagonal() : 0);
 }
 
 MetricField EditorSession::compute_metric(const MetricSettings& s) const {
@@ -445,9 +456,13 @@ void EditorSession::run(int max_passes) {
   if (running()) return;
   poll();
   wait_retired();  // they share the geometry (one search at a time)
-  if (!adaptation_)
-    adaptation_ = std::make_unique<Adaptation>(*input_, metric_, adapt_settings_, t0_snapshot_, geometry_,
-                                               geometry_mesh_ == nullptr);
+  if (!adaptation_) {
+    // The metric's chordal deviation (given or the geometry protection's)
+    // bounds the vertices and the output's distance as in `anisurf adapt`.
+    AdaptSettings a = adapt_settings_;
+    a.metric.hausd = effective_hausd(settings_);
+    adaptation_ = std::make_unique<Adaptation>(*input_, metric_, a, t0_snapshot_, geometry_, geometry_mesh_ == nullptr);
+  }
   const std::size_t n = adaptation_->size();
   const std::size_t from = scrub_ >= 0 && static_cast<std::size_t>(scrub_) < n ? static_cast<std::size_t>(scrub_) : n - 1;
   run_start_ = from + 1;

@@ -153,7 +153,31 @@ RemeshOptions remesh_options_of(const AdaptOptions& options) {
   const double chordal = 0.7 * options.metric.hausd;
   if (chordal > 0 && !(r.op.curve_max_sag > 0)) r.op.curve_max_sag = chordal;
   if (chordal > 0 && !(r.op.surface_max_sag > 0)) r.op.surface_max_sag = chordal;
+  // What the operators' sag tests leave beyond hausd (splits refused across
+  // an input's creases, smoothing in the final pass) the final pass splits
+  // onto the input.
+  if (options.metric.hausd > 0 && !(r.distance_bound > 0)) r.distance_bound = options.metric.hausd;
   return r;
+}
+
+bool protects_geometry(const MetricRecipe& recipe) {
+  using S = MetricRecipe::Source;
+  switch (recipe.source) {
+    case S::Given:
+    case S::Tensor:
+    case S::Hessian:
+    case S::HessianField: return true;
+    case S::Iso:
+    case S::Size:
+    case S::Curvature: return false;
+  }
+  return false;
+}
+
+double effective_hausd(const MetricRecipe& recipe, double protect_fraction, double diagonal) {
+  if (recipe.hausd > 0) return recipe.hausd;
+  if (!(protect_fraction > 0) || !protects_geometry(recipe) || !(diagonal > 0)) return 0;
+  return protect_fraction * diagonal;
 }
 
 void check_options(const AdaptOptions& o) {
@@ -166,6 +190,8 @@ void check_options(const AdaptOptions& o) {
   if (o.remesh.relaxation_stages < 0) throw Error("the number of relaxation stages must be >= 0");
   if (!(o.memory_limit >= 0)) throw Error("the memory limit must be >= 0 bytes");
   if (!(o.max_growth >= 0) || !std::isfinite(o.max_growth)) throw Error("the growth limit must be a number >= 0");
+  if (!(o.protect_fraction >= 0) || !std::isfinite(o.protect_fraction))
+    throw Error("the geometry protection's fraction of the diagonal must be a number >= 0");
 }
 
 std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKind kind) {
@@ -204,6 +230,10 @@ AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& 
   }
   const SurfaceMesh& tg = separate || options.cycles > 1 ? tg_storage : t0;
   timer.done("features");
+  if (!(options.metric.hausd > 0)) {
+    options.metric.hausd = effective_hausd(options, tg.bbox().diagonal());
+    result.protection_hausd = options.metric.hausd;
+  }
 
   std::unique_ptr<GeometrySurface> geometry;
   // The recipe of every cycle; a given metric is kept apart and moved into

@@ -68,7 +68,24 @@ struct AdaptOptions {
   // How far from the input the smooth surface may put vertices (its hausd
   // is the recipe's: use input_bound_of).
   InputBound input_bound;
+  // Geometry protection: a metric from a field, a tensor expression or a
+  // Hessian (protects_geometry) with no chordal deviation of its own
+  // (metric.hausd 0) is intersected with the curvature metric of hausd =
+  // protect_fraction x the bounding-box diagonal of T_G, which is then the
+  // output's distance bound too (Mmg's default -hausd, relative to the
+  // model). An isotropic size is met as asked. 0: off (`--hausd 0`).
+  double protect_fraction = 1e-3;
 };
+
+// True if a metric of `recipe`'s source gets the geometry protection
+// (AdaptOptions::protect_fraction) when it has no hausd.
+bool protects_geometry(const MetricRecipe& recipe);
+// The chordal deviation the adaptation of T_G (bounding-box diagonal
+// `diagonal`) runs with: the recipe's, or the protection's, or 0.
+double effective_hausd(const MetricRecipe& recipe, double protect_fraction, double diagonal);
+inline double effective_hausd(const AdaptOptions& options, double diagonal) {
+  return effective_hausd(options.metric, options.protect_fraction, diagonal);
+}
 
 // options.input_bound with the recipe's chordal deviation hausd.
 InputBound input_bound_of(const AdaptOptions& options);
@@ -147,6 +164,9 @@ struct AdaptResult {
   bool fixed_point = false;  // the cycles stopped at a fixed point
   FeatureReport features;    // of T_G
   std::string surface;       // the name of the surface T_1 lies on
+  // The hausd of the geometry protection (AdaptOptions::protect_fraction)
+  // the adaptation ran with; 0: none (a hausd was given, or no protection).
+  double protection_hausd = 0;
   double seconds = 0;
 };
 

@@ -118,6 +118,15 @@ Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, const std::vector<V
   return p;
 }
 
+double AdaptedMesh::distance_to_input(const Vec3& x, std::initializer_list<Vertex> near) {
+  std::array<Hint, 4> hg{};
+  std::size_t n = 0;
+  for (Vertex v : near)
+    if (n < hg.size() && hint_g_[v].is_valid()) hg[n++] = hint_g_[v];
+  const Projection pr = geometry_.project(x, std::span<const Hint>(hg.data(), n), Constraint::Free);
+  return norm(x - (pr.location.is_valid() ? pr.location.point : pr.point));
+}
+
 double AdaptedMesh::input_tolerance(Triangle t, const SymTensor3& M) const {
   const double tr = trace(M);
   const double h = tr > 0 ? std::sqrt(3.0 / tr) : INFINITY;

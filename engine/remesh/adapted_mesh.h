@@ -112,6 +112,10 @@ class AdaptedMesh {
   // True where the last placement of v pulled the surface point back
   // towards T_G (InputBound): where the smooth surface and the input differ.
   bool pulled_to_input(Vertex v) const { return on_surface_[v] == 2; }
+  // Distance from x to the polyhedral T_G (its closest point, searched from
+  // the hints of the vertices `near`): what the output's distance to the
+  // input is measured with.
+  double distance_to_input(const Vec3& x, std::initializer_list<Vertex> near);
   // The largest distance the bound allows from T_G at a point of T_G's
   // triangle `t` where the metric is M (InputBound).
   double input_tolerance(Triangle t, const SymTensor3& M) const;

@@ -36,6 +36,7 @@ struct Limits {
   double cos_turn, cos_surface;
   explicit Limits(const OperatorOptions& o)
       : cos_turn(cos_deg(o.max_normal_turn_deg)), cos_surface(cos_deg(o.max_surface_angle_deg)) {}
+  Limits(double turn_deg, double surface_deg) : cos_turn(cos_deg(turn_deg)), cos_surface(cos_deg(surface_deg)) {}
 };
 
 // A new triangle (a, b, c) replacing one of unit normal `old_n`: refused when
@@ -202,6 +203,49 @@ Vec3 split_point(const AdaptedMesh& m, Vertex b, Vertex d, const OperatorOptions
   return (1 - t) * pb + t * pd;
 }
 
+// The one or two triangles of edge c, halved at x (surface normal
+// `surface_n` there, zero on a curve): check_triangle against the triangle
+// each replaces.
+Rejection check_halves(const AdaptedMesh& m, Corner c, const Vec3& x, const Vec3& surface_n, const Limits& lim) {
+  const SurfaceMesh& mesh = m.mesh();
+  for (Corner k : {c, mesh.opposite(c)}) {
+    if (!k.is_valid()) continue;
+    const Triangle t = M::triangle(k);
+    const Vec3 old_n = unit_normal(mesh, t);
+    const Vertex va = mesh.vertex(k), vb = mesh.edge_from(k), vd = mesh.edge_to(k);
+    const Vec3 pa = mesh.position(va), pb = mesh.position(vb), pd = mesh.position(vd);
+    const Vec3 &na = m.surface_normal(va), &nb = m.surface_normal(vb), &nd = m.surface_normal(vd);
+    Rejection r = check_triangle(pa, pb, x, old_n, {na, nb, surface_n}, lim);
+    if (r == Rejection::None) r = check_triangle(pa, x, pd, old_n, {na, surface_n, nd}, lim);
+    if (r != Rejection::None) return r;
+  }
+  return Rejection::None;
+}
+
+// The halves of edge c at x on the surface's side (check_surface_side: at
+// most one free corner, or near a feature).
+Rejection check_halves_side(AdaptedMesh& m, Corner c, const Vec3& x, const Vec3& surface_n, const Hint& hint) {
+  const SurfaceMesh& mesh = m.mesh();
+  for (Corner k : {c, mesh.opposite(c)}) {
+    if (!k.is_valid()) continue;
+    const Vertex va = mesh.vertex(k), vb = mesh.edge_from(k), vd = mesh.edge_to(k);
+    const Vec3 pa = mesh.position(va), pb = mesh.position(vb), pd = mesh.position(vd);
+    const Vec3 &na = m.surface_normal(va), &nb = m.surface_normal(vb), &nd = m.surface_normal(vd);
+    const Hint &ha = m.hint_g(va), &hb = m.hint_g(vb), &hd = m.hint_g(vd);
+    Rejection r = check_surface_side(m, {pa, pb, x}, {na, nb, surface_n}, {ha, hb, hint});
+    if (r == Rejection::None) r = check_surface_side(m, {pa, x, pd}, {na, surface_n, nd}, {ha, hint, hd});
+    if (r != Rejection::None) return r;
+  }
+  return Rejection::None;
+}
+
+// Both checks of a split of c at x.
+Rejection check_split_at(AdaptedMesh& m, Corner c, const Vec3& x, const Vec3& surface_n, const Hint& hint,
+                         const Limits& lim) {
+  const Rejection r = check_halves(m, c, x, surface_n, lim);
+  return r == Rejection::None ? check_halves_side(m, c, x, surface_n, hint) : r;
+}
+
 }  // namespace
 
 SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
@@ -212,35 +256,6 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
   const Vec3 mid = split_point(m, b, d, o);
 
   const Limits lim(o);
-  // The one or two triangles of the edge, halved at x.
-  auto check = [&](const Vec3& x, const Vec3& surface_n) {
-    for (Corner k : {c, mesh.opposite(c)}) {
-      if (!k.is_valid()) continue;
-      const Triangle t = M::triangle(k);
-      const Vec3 old_n = unit_normal(mesh, t);
-      const Vertex va = mesh.vertex(k), vb = mesh.edge_from(k), vd = mesh.edge_to(k);
-      const Vec3 pa = mesh.position(va), pb = mesh.position(vb), pd = mesh.position(vd);
-      const Vec3 &na = m.surface_normal(va), &nb = m.surface_normal(vb), &nd = m.surface_normal(vd);
-      Rejection r = check_triangle(pa, pb, x, old_n, {na, nb, surface_n}, lim);
-      if (r == Rejection::None) r = check_triangle(pa, x, pd, old_n, {na, surface_n, nd}, lim);
-      if (r != Rejection::None) return r;
-    }
-    return Rejection::None;
-  };
-  // The new triangles, at most one free corner or near a feature (check_surface_side).
-  auto check_sides = [&](const Vec3& x, const Vec3& surface_n, const Hint& hint) {
-    for (Corner k : {c, mesh.opposite(c)}) {
-      if (!k.is_valid()) continue;
-      const Vertex va = mesh.vertex(k), vb = mesh.edge_from(k), vd = mesh.edge_to(k);
-      const Vec3 pa = mesh.position(va), pb = mesh.position(vb), pd = mesh.position(vd);
-      const Vec3 &na = m.surface_normal(va), &nb = m.surface_normal(vb), &nd = m.surface_normal(vd);
-      const Hint &ha = m.hint_g(va), &hb = m.hint_g(vb), &hd = m.hint_g(vd);
-      Rejection r = check_surface_side(m, {pa, pb, x}, {na, nb, surface_n}, {ha, hb, hint});
-      if (r == Rejection::None) r = check_surface_side(m, {pa, x, pd}, {na, surface_n, nd}, {ha, hint, hd});
-      if (r != Rejection::None) return r;
-    }
-    return Rejection::None;
-  };
   plan.at = m.place(mid, plan.kind, {b, d});
   // Figure 14: a swap instead when the new vertex would be too close to both
   // opposite vertices.
@@ -255,8 +270,7 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     }
   }
   const Vec3 sn = plan.kind == VertexKind::Free ? plan.at.normal : Vec3();
-  plan.why = check(plan.at.position, sn);
-  if (plan.why == Rejection::None) plan.why = check_sides(plan.at.position, sn, plan.at.hint_g);
+  plan.why = check_split_at(m, c, plan.at.position, sn, plan.at.hint_g, lim);
   if (plan.why != Rejection::None) {
     // Section 5.3: the projection is not admissible, the midpoint is used,
     // if it is close enough to the surface for the triangles around it
@@ -266,8 +280,7 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     // Where the smooth surface strays from the input (pulled back), the
     // input's own closest point (on T_G's triangles or feature edge).
     if (plan.at.pulled && norm(plan.at.on_input - plan.at.position) > 0) {
-      plan.why = check(plan.at.on_input, sn);
-      if (plan.why == Rejection::None) plan.why = check_sides(plan.at.on_input, sn, plan.at.hint_g);
+      plan.why = check_split_at(m, c, plan.at.on_input, sn, plan.at.hint_g, lim);
       if (plan.why == Rejection::None) {
         plan.at.position = plan.at.on_input;
         plan.at.pulled = true;
@@ -279,8 +292,8 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     for (Corner k : {c, mesh.opposite(c)})
       if (k.is_valid()) min_height = std::min(min_height, norm(mesh.triangle_normal(M::triangle(k))) / len);
     const double off = norm(plan.at.position - mid);
-    plan.why = off <= o.split_fallback_offset * min_height ? check(mid, Vec3()) : first;
-    if (plan.why == Rejection::None) plan.why = check_sides(mid, sn, plan.at.hint_g);
+    plan.why = off <= o.split_fallback_offset * min_height ? check_halves(m, c, mid, Vec3(), lim) : first;
+    if (plan.why == Rejection::None) plan.why = check_halves_side(m, c, mid, sn, plan.at.hint_g);
     if (plan.why == Rejection::None) {
       plan.projected = false;
       plan.at.position = mid;
@@ -289,6 +302,40 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
       plan.why = first;
     }
   }
+  return plan;
+}
+
+SplitPlan can_split_onto_input(AdaptedMesh& m, Corner c, double max_turn_deg, double bound) {
+  const SurfaceMesh& mesh = m.mesh();
+  SplitPlan plan;
+  const Vertex b = mesh.edge_from(c), d = mesh.edge_to(c);
+  plan.kind = is_feature_edge(mesh, c) ? VertexKind::Curve : VertexKind::Free;
+  const Vec3 mid = 0.5 * (mesh.position(b) + mesh.position(d));
+  plan.at = m.place(mid, plan.kind, {b, d});
+  const Limits lim(max_turn_deg, max_turn_deg);
+  const Vec3 sn = plan.kind == VertexKind::Free ? plan.at.normal : Vec3();
+  // The surface point, T_G's closest point, then points part of the way
+  // from the midpoint to T_G within `bound` of it (the triangles tilt less;
+  // the next sweep goes on).
+  const Vec3 input = plan.at.on_input;
+  const std::array<Vec3, 4> candidates = {plan.at.position, input, mid + 0.5 * (input - mid), mid + 0.25 * (input - mid)};
+  Rejection first = Rejection::None;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    if (i > 0 && !(norm(candidates[i] - candidates[0]) > 0)) continue;
+    if (i > 1 && norm(candidates[i] - input) > bound) continue;
+    const Rejection why = check_split_at(m, c, candidates[i], sn, plan.at.hint_g, lim);
+    if (why == Rejection::None) {
+      plan.why = Rejection::None;
+      if (i > 0) {
+        plan.at.position = candidates[i];
+        plan.at.pulled = true;
+        plan.at.on_surface = i == 1;
+      }
+      return plan;
+    }
+    if (i == 0) first = why;
+  }
+  plan.why = first;
   return plan;
 }
 

@@ -124,6 +124,14 @@ struct SplitPlan {
 // be shorter than lmin and the edge can be swapped (can_swap), the plan is
 // that swap instead (section 5.3, figure 14).
 SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o);
+// The split that keeps T_1 within `bound` of the input (the --hausd bound,
+// Remesher's final pass): the new vertex at the projection of the straight
+// midpoint (within the input bound of T_G), else at T_G's own closest point,
+// else half or a quarter of the way from the midpoint to it when that is
+// within `bound` of T_G (left off the surface), with the normal filters of
+// can_split widened to `max_turn_deg` (a triangle across a crease of the
+// input turns to follow it); no swap instead.
+SplitPlan can_split_onto_input(AdaptedMesh& m, Corner c, double max_turn_deg, double bound);
 // Pre: can_split(...).why == None. Returns the new vertex (tagged kRidge on a
 // ridge edge), or an invalid vertex when the plan was a swap.
 Vertex split(AdaptedMesh& m, Corner c, const SplitPlan& plan);

@@ -397,6 +397,61 @@ void Remesher::final_pass(PassReport& r) {
     smooth_pass(r);
     if (r.moves == before) break;
   }
+  if (!r.interrupted) bound_distance(r);
+}
+
+std::vector<Remesher::EdgeItem> Remesher::edges_beyond_bound() {
+  SurfaceMesh& mesh = mesh_.mesh();
+  const double bound = options_.distance_bound;
+  std::vector<EdgeItem> out;
+  for (Triangle t : mesh.triangles()) {
+    const Vertex a = mesh.vertex(t, 0), b = mesh.vertex(t, 1), c = mesh.vertex(t, 2);
+    const Vec3 pa = mesh.position(a), pb = mesh.position(b), pc = mesh.position(c);
+    // Each edge at its canonical corner (the edge of corner k runs from
+    // vertex k + 1 to k + 2).
+    for (int k = 0; k < 3; ++k) {
+      const Corner e = M::corner(t, k);
+      const Corner o = mesh.opposite(e);
+      if (o.is_valid() && o.idx < e.idx) continue;
+      const Vertex u = mesh.edge_from(e), w = mesh.edge_to(e);
+      const double d = mesh_.distance_to_input(0.5 * (mesh.position(u) + mesh.position(w)), {u, w});
+      if (d > bound) out.push_back({d, u.idx, w.idx});
+    }
+    const double d = mesh_.distance_to_input((pa + pb + pc) / 3.0, {a, b, c});
+    if (!(d > bound)) continue;
+    const double lab = norm2(pb - pa), lbc = norm2(pc - pb), lca = norm2(pa - pc);
+    if (lab >= lbc && lab >= lca) out.push_back({d, a.idx, b.idx});
+    else if (lbc >= lca) out.push_back({d, b.idx, c.idx});
+    else out.push_back({d, c.idx, a.idx});
+  }
+  std::sort(out.begin(), out.end(), [](const EdgeItem& x, const EdgeItem& y) { return x.length > y.length; });
+  return out;
+}
+
+void Remesher::bound_distance(PassReport& r) {
+  if (!(options_.distance_bound > 0)) return;
+  SurfaceMesh& mesh = mesh_.mesh();
+  for (int sweep = 0; sweep < options_.bound_sweeps; ++sweep) {
+    const std::vector<EdgeItem> beyond = edges_beyond_bound();
+    r.beyond_bound = static_cast<int>(beyond.size());
+    int splits = 0;
+    for (const EdgeItem& it : beyond) {
+      if (interrupted(r)) return;
+      // An edge split earlier in the sweep is gone (its halves wait for the next one).
+      const Corner c = find_edge_corner(mesh, Vertex(it.a), Vertex(it.b));
+      if (!c.is_valid()) continue;
+      const SplitPlan plan = can_split_onto_input(mesh_, c, options_.bound_split_turn_deg, options_.distance_bound);
+      if (plan.why != Rejection::None) {
+        refuse(r, PassKind::Final, plan.why);
+        continue;
+      }
+      apply(r, c, plan, false);
+      ++splits;
+    }
+    r.bound_splits += splits;
+    if (splits == 0) return;
+  }
+  r.beyond_bound = static_cast<int>(edges_beyond_bound().size());
 }
 
 int Remesher::valence_swaps(PassReport& r) {

@@ -84,6 +84,15 @@ struct RemeshOptions {
   // AdaptOptions::max_growth (set_growth_limits).
   int max_round_vertices = 0;
   int max_vertices = 0;
+  // The output's distance to the input (the chordal deviation --hausd as a
+  // bound): at the end of the final pass, the edges whose midpoint and the
+  // triangles whose centroid lie farther from T_G than distance_bound (the
+  // points bench/surfdist measures) are split onto the input
+  // (can_split_onto_input; a triangle at its longest edge), the farthest
+  // first, in at most bound_sweeps sweeps over the mesh. 0: none.
+  double distance_bound = 0;
+  int bound_sweeps = 8;
+  double bound_split_turn_deg = 80;
 };
 
 enum class PassKind { Split, Collapse, Swap, Smooth, Final };
@@ -97,6 +106,11 @@ struct PassReport {
   int round = 0;  // the schedule's round when the pass ran (Schedule::round): 0 for the initial swaps
   int splits = 0, collapses = 0, swaps = 0, moves = 0;
   int removed_vertices = 0;  // final pass: interior vertices of valence < 4
+  // Final pass with RemeshOptions::distance_bound: the splits that brought
+  // points back within it (counted in `splits` too), and the edge midpoints
+  // and triangle centroids still beyond it when the pass ended.
+  int bound_splits = 0;
+  int beyond_bound = 0;
   int split_unprojected = 0;  // splits at the straight midpoint (projection refused)
   // Refusals per filter (indexed by Rejection), all operators together;
   // what counts as a refusal: refuse() in remesher.cpp.
@@ -230,6 +244,12 @@ class Remesher {
   void swap_pass(PassReport& r);
   void smooth_pass(PassReport& r);
   void final_pass(PassReport& r);
+  // The end of the final pass with a distance bound (RemeshOptions::
+  // distance_bound): the sweeps of splits onto the input.
+  void bound_distance(PassReport& r);
+  // The edges to split for the bound, the farthest first: those whose
+  // midpoint, and the longest of the triangles whose centroid, lies beyond it.
+  std::vector<EdgeItem> edges_beyond_bound();
   // Swaps around v (its link edges) while they improve; returns the count.
   int local_swaps(Vertex v, PassReport& r);
   // Final pass: swaps of interior edges that bring the four vertices'

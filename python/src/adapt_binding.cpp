@@ -28,6 +28,7 @@ struct Result : Mesh {
   py::dict lengths;
   bool fixed_point = false;
   std::string surface;
+  double protection_hausd = 0;
   double seconds = 0;
 };
 
@@ -64,6 +65,8 @@ py::dict pass_dict(const remesh::PassReport& r) {
   d["swaps"] = r.swaps;
   d["moves"] = r.moves;
   d["removed_vertices"] = r.removed_vertices;
+  d["bound_splits"] = r.bound_splits;
+  d["beyond_bound"] = r.beyond_bound;
   d["seconds"] = r.seconds;
   return d;
 }
@@ -154,6 +157,7 @@ Result result_from(EngineRun run) {
   r.lengths = lengths_dict(run.measured);
   r.fixed_point = run.result.fixed_point;
   r.surface = run.result.surface;
+  r.protection_hausd = run.result.protection_hausd;
   r.seconds = run.result.seconds;
   return r;
 }
@@ -164,9 +168,11 @@ Result adapt(py::object vertices, py::object triangles, const py::kwargs& kwargs
   const py::object fields = k.take("fields");
   const py::object refs = k.take("refs");
   const py::object geometry = k.take("geometry");
+  const bool hausd_given = k.has("hausd");
   MetricSource source = metric_source_from(k, 1.3);
   remesh::AdaptOptions options;
   adapt_options_from(k, options);
+  if (hausd_given && !(source.recipe.hausd > 0)) options.protect_fraction = 0;  // hausd=0: no geometry protection
   const BuildOptions build = build_options_from(k);
   k.finish();
 
@@ -218,7 +224,10 @@ Metric source (one; none with hausd: the curvature metric of hausd):
 Hessian target (one): error=, complexity=, target_vertices= (--vertices);
   norm=2 (a number >= 1 or 'inf'), error_constant=2/9.
 Bounds: hmin=0, hmax=inf, max_aniso=inf. hausd= chordal deviation
-  (intersected with the curvature metric; new vertices stay within hausd/5).
+  (intersected with the curvature metric; new vertices stay within hausd/5;
+  edge midpoints and centroids farther are split onto the input). Without
+  hausd, a metric=, tensor= or Hessian source gets hausd = diagonal / 1000
+  (geometry protection: Result.protection_hausd); hausd=0: none.
   hgrad=1.3 (-1: off), hgrad_space='metric' | 'physical'.
 Remeshing: lmin=0.72, lmax=1.4, ridge_angle=45 (--ar), detect_ridges=True
   (False: --nr), curve_turn=25, curve_sag=0.1, free_surface=False, rounds=30,
@@ -237,7 +246,8 @@ Result: a Mesh (vertices, triangles, refs, fields interpolated ...) with
   error_estimate, inverted_after, initial, passes: one dict per pass);
   quality: dict (q_min, q_mean of eq. 17, qc_*, mean_ratio_*, inverted,
   complexity, predicted_vertices); lengths: dict (min, mean, max,
-  in_band_pct, histogram over bins); fixed_point, surface, seconds.
+  in_band_pct, histogram over bins); fixed_point, surface, protection_hausd,
+  seconds.
 An unknown keyword raises TypeError; bad arrays ValueError; the engine's
 refusals anisurf.Error subclasses (MetricError, ExpressionError,
 TopologyError: also ValueError; IoError: also OSError) with its message.)doc";
@@ -252,6 +262,7 @@ void bind_adapt(py::module_& m) {
       .def_readonly("lengths", &Result::lengths)
       .def_readonly("fixed_point", &Result::fixed_point)
       .def_readonly("surface", &Result::surface)
+      .def_readonly("protection_hausd", &Result::protection_hausd)
       .def_readonly("seconds", &Result::seconds);
   m.def("adapt", &adapt, py::arg("vertices"), py::arg("triangles") = py::none(), kAdaptDoc);
 }
