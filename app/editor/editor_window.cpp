@@ -1,6 +1,7 @@
 // The editor window: GLFW + the renderer + the panels; mouse: orbit / pan /
 // zoom, or paint with the brush; drag and drop to open; the script player;
-// the autosave; the quit confirmation.
+// the autosave (its own file per launch, an earlier one offered at start);
+// open, drop and quit ask first when there is unsaved work (panels.h).
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
@@ -15,7 +16,10 @@
 #include <iostream>
 #include <thread>
 
+#include <unistd.h>
+
 #include "core/error.h"
+#include "editor/autosave.h"
 #include "editor/editor_app.h"
 #include "editor/editor_view.h"
 #include "editor/panels.h"
@@ -165,14 +169,16 @@ void on_drop(GLFWwindow* w, int count, const char** paths) {
 
 void on_close(GLFWwindow* w) {
   App& a = app_of(w);
-  if (a.session.dirty() && !a.panels.quit_confirmed) {
+  if (a.panels.quit_confirmed) return;
+  if (a.session.has_mesh() && a.session.dirty()) {
     glfwSetWindowShouldClose(w, GLFW_FALSE);
-    a.panels.quit_requested = true;
+    request(a.session, a.view, a.panels, {PanelState::Action::Quit, {}, {}});
   }
 }
 
-// Opens dropped files: a .sol goes with the open mesh (or the mesh dropped
-// with it), anything else is opened as a mesh.
+// Opens dropped files (asking first when there is unsaved work): a .sol
+// goes with the open mesh (or the mesh dropped with it), anything else is
+// opened as a mesh.
 void open_dropped(App& a) {
   if (a.dropped.empty()) return;
   std::string mesh, sol;
@@ -184,36 +190,29 @@ void open_dropped(App& a) {
   a.dropped.clear();
   if (mesh.empty()) mesh = a.session.has_mesh() ? a.session.mesh_path() : "";
   if (mesh.empty()) return;
+  request(a.session, a.view, a.panels, {PanelState::Action::Open, mesh, sol});
+}
+
+// Writes the launch's autosave when the journal changed; an error goes to
+// the panel's message and stays shown until a write works again.
+void write_autosave(App& a, Autosave& autosave) {
   try {
-    a.session.open(mesh, sol);
-    remember_recent(a.panels, mesh + (sol.empty() ? "" : "|" + sol));
-    a.panels.open_path = mesh;
-    a.panels.open_sol = sol;
-    a.panels.edit_valid = false;
-    a.view.fit_request = true;
-    a.panels.message = "opened " + mesh;
-    a.panels.message_is_error = false;
+    if (autosave.write(a.session.journal())) {
+      a.panels.autosave_path = autosave.path();
+      a.panels.autosave_error.clear();
+    }
   } catch (const std::exception& e) {
-    a.panels.message = e.what();
-    a.panels.message_is_error = true;
+    if (a.panels.autosave_error != e.what()) {
+      std::fprintf(stderr, "anisurf: %s\n", e.what());
+      a.panels.message = e.what();
+      a.panels.message_is_error = true;
+    }
+    a.panels.autosave_error = e.what();
   }
 }
 
-void write_autosave(const EditorSession& s, std::size_t* saved_lines) {
-  if (s.journal().size() == *saved_lines) return;
-  const std::string path = autosave_path();
-  std::error_code ec;
-  std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
-  std::ofstream out(path + ".tmp");
-  out << "# anisurf editor session (autosave): replay with anisurf --script " << path << "\n";
-  for (const auto& l : s.journal()) out << l << "\n";
-  out.close();
-  if (out) std::filesystem::rename(path + ".tmp", path, ec);
-  *saved_lines = s.journal().size();
-}
-
 // Recent files, kept next to the autosave (one per line).
-std::string recent_path() { return (std::filesystem::path(autosave_path()).parent_path() / "recent.txt").string(); }
+std::string recent_path() { return (std::filesystem::path(autosave_dir()) / "recent.txt").string(); }
 
 void load_recent(PanelState& p) {
   std::ifstream in(recent_path());
@@ -240,15 +239,6 @@ struct GlfwLib {
 };
 
 }  // namespace
-
-std::string autosave_path() {
-  const char* state = std::getenv("XDG_STATE_HOME");
-  const char* home = std::getenv("HOME");
-  std::filesystem::path base = state && *state ? std::filesystem::path(state)
-                               : home && *home  ? std::filesystem::path(home) / ".local" / "state"
-                                                : std::filesystem::temp_directory_path();
-  return (base / "anisurf" / "autosave.anisurf").string();
-}
 
 int run_editor_window(const std::string& mesh, const std::string& sol, const ScriptOptions& o) {
   std::vector<ScriptLine> script;
@@ -289,14 +279,35 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     }
   } backends;
 
-  if (script.empty()) load_recent(a.panels);
+  // The autosave: this launch's own file; the others' are listed (the
+  // oldest beyond 20 pruned) and the newest is offered.
+  const std::string autosave_directory = autosave_dir();
+  Autosave autosave(autosave_directory, std::time(nullptr), static_cast<long>(::getpid()));
+  std::error_code dir_ec;
+  std::filesystem::file_time_type listed_at{};
+  auto list_others = [&] {
+    a.panels.autosaves = list_autosaves(autosave_directory, autosave.path());
+    listed_at = std::filesystem::last_write_time(autosave_directory, dir_ec);
+  };
+  if (script.empty()) {
+    load_recent(a.panels);
+    prune_autosaves(autosave_directory, 20);
+    list_others();
+    for (const AutosaveEntry& e : a.panels.autosaves)
+      if (e.edits > 0) {
+        a.panels.offer = e;
+        std::fprintf(stderr, "anisurf: offering the autosave of an earlier session: %s (%s)\n", e.path.c_str(),
+                     e.describe().c_str());
+        break;
+      }
+  }
   if (!mesh.empty()) {
     a.session.open(mesh, sol);
     a.panels.open_path = mesh;
     a.panels.open_sol = sol;
     remember_recent(a.panels, mesh + (sol.empty() ? "" : "|" + sol));
   }
-  std::size_t next_line = 0, autosaved = 0;
+  std::size_t next_line = 0;
   std::string pending_shot;
   int exit_code = 0;
   bool quit = false;
@@ -341,7 +352,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
         execute(line, a.session, a.view, host);
         if (line.words[0] == "open") {
           a.panels.open_path = line.words[1];
-          a.panels.edit_valid = false;
+          a.panels.draft.valid = false;
         }
       } catch (const std::exception& e) {
         std::cerr << "anisurf: " << e.what() << "\n";
@@ -360,7 +371,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     // Hover: the element under the mouse (not while dragging, nor while a
     // script plays: its screenshots show no tooltip).
     a.panels.hover.reset();
-    if (next_line >= script.size() && !a.rotating && !a.panels.quit_requested && frame_start - a.last_event < std::chrono::seconds(2)) {
+    if (next_line >= script.size() && !a.rotating && !ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId | ImGuiPopupFlags_AnyPopupLevel) && frame_start - a.last_event < std::chrono::seconds(2)) {
       int ww = 1, wh = 1;
       glfwGetWindowSize(window, &ww, &wh);
       a.panels.hover = a.ev.hover(a.scene, static_cast<float>(a.mx * fbw / ww), static_cast<float>(a.my * fbh / wh), fbw, fbh);
@@ -435,8 +446,10 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
       fps_start = now;
     }
     if (now - last_autosave > std::chrono::seconds(5) && script.empty()) {
-      write_autosave(a.session, &autosaved);
+      write_autosave(a, autosave);
       last_autosave = now;
+      // Another launch added or removed an autosave: list them again.
+      if (std::filesystem::last_write_time(autosave_directory, dir_ec) != listed_at) list_others();
     }
     // While the adaptation runs the frame rate is capped lower (15 fps keeps
     // the window responsive and leaves the worker most of the machine).
@@ -444,7 +457,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     std::this_thread::sleep_until(frame_start + std::chrono::duration_cast<Clock::duration>(cap));
   }
   if (script.empty()) {
-    write_autosave(a.session, &autosaved);
+    write_autosave(a, autosave);
     save_recent(a.panels);
   }
   a.session.pause();
