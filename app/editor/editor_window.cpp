@@ -47,6 +47,13 @@ struct App {
   bool have_last_dab = false;
   Vec3 last_dab;
   std::vector<std::string> dropped;
+  // Keys that went down since the last frame, and releases held back to the
+  // next frame (on_key_event).
+  struct KeyRelease {
+    int key, scancode, mods;
+  };
+  std::vector<int> pressed_this_frame;
+  std::vector<KeyRelease> held_releases;
   bool close_requested = false;
   Clock::time_point last_event = Clock::now();
 };
@@ -162,6 +169,31 @@ void on_key(GLFWwindow* w, int key, int, int action, int mods) {
   }
 }
 
+// Every key event, to the window's keys and to Dear ImGui. ImGui (1.86)
+// reads the key states once per frame: a press released within the same
+// frame (a quick tap at a low frame rate: Tab out of a field, Enter) would
+// never be seen, so such a release is passed on at the next frame
+// (release_held_keys()).
+void on_key_event(GLFWwindow* w, int key, int scancode, int action, int mods) {
+  App& a = app_of(w);
+  if (action == GLFW_RELEASE &&
+      std::find(a.pressed_this_frame.begin(), a.pressed_this_frame.end(), key) != a.pressed_this_frame.end()) {
+    a.held_releases.push_back({key, scancode, mods});
+    return;
+  }
+  if (action == GLFW_PRESS) a.pressed_this_frame.push_back(key);
+  on_key(w, key, scancode, action, mods);
+  ImGui_ImplGlfw_KeyCallback(w, key, scancode, action, mods);
+}
+
+// Before the events of a new frame: the releases held back by on_key_event.
+void release_held_keys(GLFWwindow* w, App& a) {
+  const auto held = std::move(a.held_releases);
+  a.held_releases.clear();
+  a.pressed_this_frame.clear();
+  for (const auto& r : held) ImGui_ImplGlfw_KeyCallback(w, r.key, r.scancode, GLFW_RELEASE, r.mods);
+}
+
 void on_drop(GLFWwindow* w, int count, const char** paths) {
   App& a = app_of(w);
   for (int i = 0; i < count; ++i) a.dropped.emplace_back(paths[i]);
@@ -264,7 +296,6 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
   glfwSetMouseButtonCallback(window, on_mouse_button);
   glfwSetCursorPosCallback(window, on_cursor);
   glfwSetScrollCallback(window, on_scroll);
-  glfwSetKeyCallback(window, on_key);
   glfwSetDropCallback(window, on_drop);
   glfwSetWindowCloseCallback(window, on_close);
 
@@ -272,6 +303,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
   render::ImGuiSession imgui;
   ImGui_ImplGlfw_InitForOpenGL(window, true);
   ImGui_ImplOpenGL3_Init("#version 330 core");
+  glfwSetKeyCallback(window, on_key_event);  // after ImGui's: it passes keys on itself
   struct BackendGuard {
     ~BackendGuard() {
       ImGui_ImplOpenGL3_Shutdown();
@@ -334,6 +366,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     const auto frame_start = Clock::now();
     const bool busy = a.session.running() || a.session.measuring() || !a.ev.settled(a.session, a.view) ||
                       next_line < script.size() || !pending_shot.empty();
+    release_held_keys(window, a);
     if (!busy && frame_start - a.last_event > std::chrono::seconds(1))
       glfwWaitEventsTimeout(0.25);
     else
