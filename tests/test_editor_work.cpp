@@ -292,6 +292,14 @@ TEST_CASE("editor open: a loaded metric is used as given (no gradation, no bound
   const MetricField file = metric_from_field(with, {}, report.vertex_origin);
   REQUIRE(file.size() == s.metric().size());
   for (std::size_t i = 0; i < file.size(); ++i) REQUIRE(file[i].m == s.metric()[i].m);
+  // Another mesh opened without a metric: the previous file is not offered for it.
+  {
+    EditorSession o;
+    o.open(assets("demo.mesh"), assets("demo.sol"));
+    o.open(assets("demo.mesh"));
+    CHECK(o.settings().source == MetricSettings::Source::Iso);
+    CHECK(o.settings().sol_path.empty());
+  }
   // Asked for, the gradation applies (and the file is read again).
   MetricSettings g = s.settings();
   g.hgrad = 1.1;

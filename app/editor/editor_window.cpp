@@ -225,8 +225,8 @@ void open_dropped(App& a) {
   request(a.session, a.view, a.panels, {PanelState::Action::Open, mesh, sol});
 }
 
-// Writes the launch's autosave when the journal changed; an error goes to
-// the panel's message and stays shown until a write works again.
+// Writes the launch's autosave when the journal changed; an error stays
+// shown at the top of the panel until a write works again.
 void write_autosave(App& a, Autosave& autosave) {
   try {
     if (autosave.write(a.session.journal())) {
@@ -234,12 +234,8 @@ void write_autosave(App& a, Autosave& autosave) {
       a.panels.autosave_error.clear();
     }
   } catch (const std::exception& e) {
-    if (a.panels.autosave_error != e.what()) {
-      std::fprintf(stderr, "anisurf: %s\n", e.what());
-      a.panels.message = e.what();
-      a.panels.message_is_error = true;
-    }
-    a.panels.autosave_error = e.what();
+    if (a.panels.autosave_error != e.what()) std::fprintf(stderr, "anisurf: %s\n", e.what());
+    a.panels.autosave_error = e.what();  // shown in red at the top of the panel
   }
 }
 

@@ -210,8 +210,11 @@ void metric_panel(EditorSession& s, PanelState& p) {
   }
   float hgrad = static_cast<float>(e.hgrad);
   ImGui::SetNextItemWidth(200);
-  track(ImGui::SliderFloat("hgrad (1: off)", &hgrad, 1.0f, 3.0f, "%.2f"));
-  e.hgrad = hgrad;
+  const bool hgrad_moved = ImGui::SliderFloat("hgrad (1: off)", &hgrad, 1.0f, 3.0f, "%.2f");
+  track(hgrad_moved);
+  // Only a moved slider sets the ratio (to the two decimals shown): the
+  // float would otherwise turn 1.3 into 1.29999995, a change of settings.
+  if (hgrad_moved) e.hgrad = std::round(static_cast<double>(hgrad) * 100.0) / 100.0;
   if (e.source != MetricSettings::Source::Curvature) {
     ImGui::SetNextItemWidth(200);
     track(ImGui::InputDouble("hausd bound (0: none)", &e.hausd_bound, 0, 0, "%.4g"));
@@ -797,9 +800,11 @@ void draw_panels(EditorSession& session, ViewState& view, PanelState& panels, re
       ImGui::TextWrapped("%s", panels.autosave_error.c_str());
       ImGui::PopStyleColor();
     }
-    if (!panels.message.empty())
-      ImGui::TextColored(panels.message_is_error ? ImVec4(0.8f, 0.1f, 0.1f, 1) : ImVec4(0.2f, 0.4f, 0.2f, 1), "%s",
-                         panels.message.c_str());
+    if (!panels.message.empty()) {
+      ImGui::PushStyleColor(ImGuiCol_Text, panels.message_is_error ? ImVec4(0.8f, 0.1f, 0.1f, 1) : ImVec4(0.2f, 0.4f, 0.2f, 1));
+      ImGui::TextWrapped("%s", panels.message.c_str());
+      ImGui::PopStyleColor();
+    }
     file_panel(session, view, panels);
     metric_panel(session, panels);
     brush_panel(session, view, panels);

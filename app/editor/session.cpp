@@ -169,6 +169,7 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
     m = build_metric(*input_, metric_recipe(s, std::move(sol_metric)), vertex_origin_).metric;
   } else {
     if (s.source == MetricSettings::Source::Sol) s.source = MetricSettings::Source::Iso;
+    s.sol_path.clear();  // the previous mesh's metric file does not fit this mesh
     // A default iso size from the mesh (1/40 of its diagonal); the settings
     // of the previous mesh may not suit this one (an expression undefined
     // here, bounds): then the iso size without bounds.
