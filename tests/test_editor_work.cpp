@@ -130,6 +130,7 @@ TEST_CASE("editor autosave: each launch writes its own file; an earlier launch's
   CHECK(listed.front().path == first.path());  // newest first
   CHECK(listed.front().input == "a.mesh");
   CHECK(listed.front().edits == 3);
+  CHECK(listed.front().unsaved == 3);
   CHECK(list_autosaves(dir.string(), first.path()).size() == 2);
   // No temporary file left behind.
   for (const auto& e : fs::directory_iterator(dir)) CHECK(e.path().extension() == ".anisurf");
@@ -197,6 +198,19 @@ TEST_CASE("editor autosave: a restore replays the edits, not the saves") {
   Autosave a(dir.string(), std::time(nullptr), 1);
   REQUIRE(a.write(s.journal()));
   CHECK(slurp(a.path()).find("save " + saved) != std::string::npos);
+  {
+    const auto listed = list_autosaves(dir.string());
+    REQUIRE(listed.size() == 1);
+    CHECK(listed[0].unsaved == 1);  // the dab after the save
+    CHECK(listed[0].describe().find("(1 unsaved)") != std::string::npos);
+    Autosave saved_session(dir.string(), std::time(nullptr), 2);
+    REQUIRE(saved_session.write({"open a.mesh", "step", "save b.mesh"}));
+    const auto all = list_autosaves(dir.string(), a.path());
+    REQUIRE(all.size() == 1);
+    CHECK(all[0].unsaved == 0);
+    CHECK(all[0].describe().find("(all saved)") != std::string::npos);
+    fs::remove(saved_session.path());
+  }
   // Another program changed the saved files since: a restore leaves them.
   std::ofstream(saved) << "changed since\n";
   fs::remove(saved_sol);
@@ -376,16 +390,19 @@ TEST_CASE("editor: a launch never changes an earlier session's autosave, and off
   }
   const auto earlier_time = fs::last_write_time(earlier);
   const std::string earlier_bytes = slurp(earlier);
-  // The later launch, on another mesh (the cube): 15 s; a Space key press
-  // (one adaptation pass: an edit its own autosave keeps) when xdotool is
-  // there.
+  // The later launch, on another mesh (the cube), for about 15 s; with
+  // xdotool, a Space key press once its window shows (one adaptation pass:
+  // an edit its own autosave keeps).
   const std::string cube = (dir / "cube.mesh").string();
   write_mesh_data(cube, test::cube());
   const bool typing = std::system("command -v xdotool >/dev/null 2>&1") == 0;
   std::ostringstream cmd;
   cmd << "XDG_STATE_HOME='" << state.string() << "' xvfb-run -a -s '-screen 0 1280x800x24' sh -c '\"" << ANISURF_BINARY
-      << "\" \"" << cube << "\" & pid=$!; sleep 5; "
-      << (typing ? "xdotool mousemove 800 450 key space; " : "") << "sleep 10; kill $pid; wait $pid' >'"
+      << "\" \"" << cube << "\" & pid=$!; "
+      << (typing ? "timeout 30 xdotool search --sync --onlyvisible --name \"anisurf editor\" >/dev/null; sleep 2; "
+                   "xdotool mousemove 800 450 key space; sleep 12; "
+                 : "sleep 15; ")
+      << "kill $pid; wait $pid' >'"
       << (dir / "stdout.txt").string() << "' 2>'" << (dir / "stderr.txt").string() << "'";
   std::system(cmd.str().c_str());
   const std::string err = slurp(dir / "stderr.txt");

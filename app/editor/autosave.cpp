@@ -100,6 +100,7 @@ std::string AutosaveEntry::describe() const {
   std::string s = input.empty() ? fs::path(path).filename().string() : fs::path(input).filename().string();
   if (!started.empty()) s += ", started " + started;
   s += ", " + std::to_string(edits) + (edits == 1 ? " edit" : " edits");
+  if (unsaved < edits) s += unsaved == 0 ? " (all saved)" : " (" + std::to_string(unsaved) + " unsaved)";
   return s;
 }
 
@@ -123,7 +124,9 @@ std::vector<AutosaveEntry> list_autosaves(const std::string& dir, const std::str
       const auto words = split_words(line);
       if (words.empty()) continue;
       if (words[0] == "open" && words.size() > 1 && e.input.empty()) e.input = words[1];
-      if (counts_as_edit(words[0])) ++e.edits;
+      if (counts_as_edit(words[0])) ++e.edits, ++e.unsaved;
+      if (words[0] == "save") e.unsaved = 0;
+      if (words[0] == "open") e.unsaved = 0;  // a new mesh: what came before was dropped or saved
     }
     out.push_back(std::move(e));
   }

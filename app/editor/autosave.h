@@ -38,7 +38,8 @@ struct AutosaveEntry {
   std::string started;  // "2026-12-02 04:03:12" from the name ("" if not named so)
   std::filesystem::file_time_type written{};
   int edits = 0;        // lines journal_has_edits() counts
-  // "bunny.off, started 2026-12-02 04:03:12, 12 edits"
+  int unsaved = 0;      // of those, the ones after the last `save` line
+  // "bunny.off, started 2026-12-02 04:03:12, 12 edits (3 unsaved)"
   std::string describe() const;
 };
 

@@ -321,13 +321,14 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     load_recent(a.panels);
     prune_autosaves(autosave_directory, 20);
     list_others();
-    for (const AutosaveEntry& e : a.panels.autosaves)
-      if (e.edits > 0) {
-        a.panels.offer = e;
-        std::fprintf(stderr, "anisurf: offering the autosave of an earlier session: %s (%s)\n", e.path.c_str(),
-                     e.describe().c_str());
-        break;
-      }
+    // The newest, when it holds unsaved work (a session that ended saved
+    // is only listed).
+    if (!a.panels.autosaves.empty() && a.panels.autosaves.front().unsaved > 0) {
+      const AutosaveEntry& e = a.panels.autosaves.front();
+      a.panels.offer = e;
+      std::fprintf(stderr, "anisurf: offering the autosave of an earlier session: %s (%s)\n", e.path.c_str(),
+                   e.describe().c_str());
+    }
   }
   if (!mesh.empty()) {
     a.session.open(mesh, sol);
