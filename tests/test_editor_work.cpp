@@ -265,6 +265,64 @@ TEST_CASE("editor save: default paths beside the opened file; existing files the
   CHECK_FALSE(fs::exists(dir / "missing"));
 }
 
+TEST_CASE("editor: Open, Restore and Quit ask first when the session has unsaved changes, not otherwise") {
+  const auto dir = test::temp_dir("editor_unsaved_request");
+  const std::string cube = (dir / "cube.mesh").string();
+  write_mesh_data(cube, test::cube());
+  EditorSession s;
+  ViewState v;
+  PanelState p;
+  // Nothing unsaved: done at once.
+  request(s, v, p, {PanelState::Action::Open, assets("demo.mesh"), {}});
+  CHECK(s.mesh_path() == assets("demo.mesh"));
+  CHECK_FALSE(p.ask_unsaved);
+  s.step();
+  s.wait();
+  REQUIRE(s.dirty());
+  // Unsaved: the action waits for the dialog; the session is unchanged.
+  for (const PanelState::Pending& a : {PanelState::Pending{PanelState::Action::Open, cube, {}},
+                                       PanelState::Pending{PanelState::Action::Restore, (dir / "x.anisurf").string(), {}},
+                                       PanelState::Pending{PanelState::Action::Quit, {}, {}}}) {
+    p.ask_unsaved = false;
+    request(s, v, p, a);
+    CHECK(p.ask_unsaved);
+    CHECK(p.pending.action == a.action);
+    CHECK(s.mesh_path() == assets("demo.mesh"));
+    CHECK(s.timeline().size() == 2);
+    CHECK_FALSE(p.quit_confirmed);
+  }
+  // Saved: quitting does not ask.
+  s.save((dir / "saved.mesh").string());
+  p = {};
+  request(s, v, p, {PanelState::Action::Quit, {}, {}});
+  CHECK(p.quit_confirmed);
+  CHECK_FALSE(p.ask_unsaved);
+}
+
+TEST_CASE("editor: Ctrl+Q quits a saved session at once and asks on unsaved changes (window under Xvfb)") {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0 || std::system("command -v xdotool >/dev/null 2>&1") != 0) {
+    MESSAGE("skipped: xvfb-run or xdotool not installed");
+    return;
+  }
+  const auto dir = test::temp_dir("editor_quit_window");
+  const std::string cube = (dir / "cube.mesh").string();
+  write_mesh_data(cube, test::cube());
+  // "alive" once the process survived Ctrl+Q by 4 s; "exited" when it ended by itself.
+  auto launch = [&](bool edit) {
+    std::ostringstream cmd;
+    cmd << "XDG_STATE_HOME='" << (dir / "state").string() << "' xvfb-run -a -s '-screen 0 1280x800x24' sh -c '\""
+        << ANISURF_BINARY << "\" \"" << cube << "\" & pid=$!; "
+        << "timeout 30 xdotool search --sync --onlyvisible --name \"anisurf editor\" >/dev/null; sleep 2; "
+        << "xdotool mousemove 800 450" << (edit ? " key space; sleep 2; xdotool" : "") << " key ctrl+q; sleep 4; "
+        << "if kill -0 $pid 2>/dev/null; then echo alive; kill $pid; else echo exited; fi; wait $pid' >'"
+        << (dir / "stdout.txt").string() << "' 2>'" << (dir / "stderr.txt").string() << "'";
+    std::system(cmd.str().c_str());
+    return slurp(dir / "stdout.txt");
+  };
+  CHECK(launch(false).find("exited") != std::string::npos);
+  CHECK(launch(true).find("alive") != std::string::npos);
+}
+
 TEST_CASE("editor metric panel: a typed value stays in the draft until committed (Enter, Tab, focus loss alike)") {
   EditorSession s;
   s.open(assets("demo.mesh"));
