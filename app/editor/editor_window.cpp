@@ -18,6 +18,7 @@
 
 #include <unistd.h>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "editor/autosave.h"
 #include "editor/editor_app.h"
@@ -248,11 +249,17 @@ void load_recent(PanelState& p) {
     if (!line.empty()) p.recent.push_back(line);
 }
 
+// At exit (no window left to show an error in): a failure goes to stderr.
 void save_recent(const PanelState& p) {
-  std::error_code ec;
-  std::filesystem::create_directories(std::filesystem::path(recent_path()).parent_path(), ec);
-  std::ofstream out(recent_path());
-  for (const auto& r : p.recent) out << r << "\n";
+  try {
+    std::error_code ec;
+    std::filesystem::create_directories(std::filesystem::path(recent_path()).parent_path(), ec);
+    AtomicFile out(recent_path());
+    for (const auto& r : p.recent) out.stream() << r << "\n";
+    out.commit();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "anisurf: the recent files were not saved: %s\n", e.what());
+  }
 }
 
 struct GlfwLib {

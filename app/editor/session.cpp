@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "geometry/features.h"
 #include "io/mesh_io.h"
@@ -764,8 +765,11 @@ void EditorSession::save(const std::string& mesh_path, const std::string& sol_pa
   m.compact();
   for (const std::string& p : {mesh_path, sol_path})
     if (!p.empty()) require_existing_directory(p);
-  save_mesh(mesh_path, m);
-  if (!sol_path.empty()) write_sol(sol_path, extract_fields(m), m.n_vertices(), 3);
+  // The mesh and its metric as one set: both replaced, or neither.
+  OutputSet outputs;
+  save_mesh(outputs.temporary(mesh_path), m);
+  if (!sol_path.empty()) write_sol(outputs.temporary(sol_path), extract_fields(m), m.n_vertices(), 3);
+  outputs.commit();
   for (const std::string& p : {mesh_path, sol_path})
     if (!p.empty()) {
       const std::string a = absolute_path(p);
