@@ -116,10 +116,15 @@ void autosave_section(EditorSession& s, ViewState& v, PanelState& p) {
       ImGui::PushID(static_cast<int>(i));
       if (ImGui::SmallButton("Restore")) request(s, v, p, {PanelState::Action::Restore, e.path, {}});
       ImGui::PopID();
-      if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("%s\nReplays its edits (not its save lines: no file is written)", e.path.c_str());
+      const std::string tip = e.describe() + "\n" + e.path + "\nRestore replays its edits, not its saves (no file is written)";
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", tip.c_str());
+      // One short row: the input, the start (month-day hour:minute), the edits.
+      const std::string input = std::filesystem::path(e.input.empty() ? e.path : e.input).filename().string();
+      std::string row = input + (e.started.size() >= 16 ? " " + e.started.substr(5, 11) : std::string()) + ", " +
+                        std::to_string(e.edits) + (e.edits == 1 ? " edit" : " edits") + (e.unsaved == 0 ? ", saved" : "");
       ImGui::SameLine();
-      ImGui::TextUnformatted(e.describe().c_str());
+      ImGui::TextUnformatted(row.c_str());
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", tip.c_str());
     }
     ImGui::TreePop();
   }
