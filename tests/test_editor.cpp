@@ -483,7 +483,9 @@ TEST_CASE("editor: a script's run, anisurf adapt and a library call give the sam
   const auto dir = test::temp_dir("editor_same_as_cli");
   {
     std::ofstream f(dir / "run.anisurf");
-    f << "open " << mesh << " " << sol << "\nrun\nsave " << (dir / "editor.mesh").string() << " "
+    // The editor uses a loaded metric as given; anisurf adapt grades it by
+    // default (hgrad 1.3): asked for here, the same metric.
+    f << "open " << mesh << " " << sol << "\nhgrad 1.3\nrun\nsave " << (dir / "editor.mesh").string() << " "
       << (dir / "editor.sol").string() << "\n";
   }
   REQUIRE(run_binary("env -u DISPLAY", "--script " + (dir / "run.anisurf").string() + " --headless", dir) == 0);

@@ -22,7 +22,10 @@ const char* kEditorHelp =
     "Window: left drag orbit (paints with the brush tool, B), right drag pan, wheel zoom;\n"
     "keys 1-7 views, F fit, G glyphs, W wireframe, space step, R run/pause,\n"
     "Ctrl+Z / Ctrl+Y undo / redo; drop a mesh (and its .sol) on the window to open it.\n"
-    "The session is autosaved as a script (replay it with --script).\n\n"
+    "Ctrl+Q quits; open, drop and quit ask first when there are unsaved changes.\n"
+    "Each launch autosaves its session as a script of its own in $XDG_STATE_HOME/anisurf\n"
+    "(else ~/.local/state/anisurf): File > autosaved sessions restores one (its edits,\n"
+    "not its saves); replay one with --script.\n\n"
     "example:\n"
     "  anisurf --script assets/demo.anisurf --headless\n";
 

@@ -33,8 +33,4 @@ int run_script_headless(const ScriptOptions& options);
 // for the adaptation). Throws render::GlError without a display.
 int run_editor_window(const std::string& mesh, const std::string& sol, const ScriptOptions& options);
 
-// The autosave file of the window's session (a script replaying it):
-// $XDG_STATE_HOME/anisurf/autosave.anisurf, else ~/.local/state/...
-std::string autosave_path();
-
 }  // namespace anisurf::editor

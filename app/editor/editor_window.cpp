@@ -1,6 +1,7 @@
 // The editor window: GLFW + the renderer + the panels; mouse: orbit / pan /
 // zoom, or paint with the brush; drag and drop to open; the script player;
-// the autosave; the quit confirmation.
+// the autosave (its own file per launch, an earlier one offered at start);
+// open, drop and quit ask first when there is unsaved work (panels.h).
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
@@ -15,7 +16,11 @@
 #include <iostream>
 #include <thread>
 
+#include <unistd.h>
+
+#include "core/atomic_file.h"
 #include "core/error.h"
+#include "editor/autosave.h"
 #include "editor/editor_app.h"
 #include "editor/editor_view.h"
 #include "editor/panels.h"
@@ -43,6 +48,13 @@ struct App {
   bool have_last_dab = false;
   Vec3 last_dab;
   std::vector<std::string> dropped;
+  // Keys that went down since the last frame, and releases held back to the
+  // next frame (on_key_event).
+  struct KeyRelease {
+    int key, scancode, mods;
+  };
+  std::vector<int> pressed_this_frame;
+  std::vector<KeyRelease> held_releases;
   bool close_requested = false;
   Clock::time_point last_event = Clock::now();
 };
@@ -158,6 +170,31 @@ void on_key(GLFWwindow* w, int key, int, int action, int mods) {
   }
 }
 
+// Every key event, to the window's keys and to Dear ImGui. ImGui (1.86)
+// reads the key states once per frame: a press released within the same
+// frame (a quick tap at a low frame rate: Tab out of a field, Enter) would
+// never be seen, so such a release is passed on at the next frame
+// (release_held_keys()).
+void on_key_event(GLFWwindow* w, int key, int scancode, int action, int mods) {
+  App& a = app_of(w);
+  if (action == GLFW_RELEASE &&
+      std::find(a.pressed_this_frame.begin(), a.pressed_this_frame.end(), key) != a.pressed_this_frame.end()) {
+    a.held_releases.push_back({key, scancode, mods});
+    return;
+  }
+  if (action == GLFW_PRESS) a.pressed_this_frame.push_back(key);
+  on_key(w, key, scancode, action, mods);
+  ImGui_ImplGlfw_KeyCallback(w, key, scancode, action, mods);
+}
+
+// Before the events of a new frame: the releases held back by on_key_event.
+void release_held_keys(GLFWwindow* w, App& a) {
+  const auto held = std::move(a.held_releases);
+  a.held_releases.clear();
+  a.pressed_this_frame.clear();
+  for (const auto& r : held) ImGui_ImplGlfw_KeyCallback(w, r.key, r.scancode, GLFW_RELEASE, r.mods);
+}
+
 void on_drop(GLFWwindow* w, int count, const char** paths) {
   App& a = app_of(w);
   for (int i = 0; i < count; ++i) a.dropped.emplace_back(paths[i]);
@@ -165,14 +202,16 @@ void on_drop(GLFWwindow* w, int count, const char** paths) {
 
 void on_close(GLFWwindow* w) {
   App& a = app_of(w);
-  if (a.session.dirty() && !a.panels.quit_confirmed) {
+  if (a.panels.quit_confirmed) return;
+  if (a.session.has_mesh() && a.session.dirty()) {
     glfwSetWindowShouldClose(w, GLFW_FALSE);
-    a.panels.quit_requested = true;
+    request(a.session, a.view, a.panels, {PanelState::Action::Quit, {}, {}});
   }
 }
 
-// Opens dropped files: a .sol goes with the open mesh (or the mesh dropped
-// with it), anything else is opened as a mesh.
+// Opens dropped files (asking first when there is unsaved work): a .sol
+// goes with the open mesh (or the mesh dropped with it), anything else is
+// opened as a mesh.
 void open_dropped(App& a) {
   if (a.dropped.empty()) return;
   std::string mesh, sol;
@@ -184,36 +223,25 @@ void open_dropped(App& a) {
   a.dropped.clear();
   if (mesh.empty()) mesh = a.session.has_mesh() ? a.session.mesh_path() : "";
   if (mesh.empty()) return;
+  request(a.session, a.view, a.panels, {PanelState::Action::Open, mesh, sol});
+}
+
+// Writes the launch's autosave when the journal changed; an error stays
+// shown at the top of the panel until a write works again.
+void write_autosave(App& a, Autosave& autosave) {
   try {
-    a.session.open(mesh, sol);
-    remember_recent(a.panels, mesh + (sol.empty() ? "" : "|" + sol));
-    a.panels.open_path = mesh;
-    a.panels.open_sol = sol;
-    a.panels.edit_valid = false;
-    a.view.fit_request = true;
-    a.panels.message = "opened " + mesh;
-    a.panels.message_is_error = false;
+    if (autosave.write(a.session.journal())) {
+      a.panels.autosave_path = autosave.path();
+      a.panels.autosave_error.clear();
+    }
   } catch (const std::exception& e) {
-    a.panels.message = e.what();
-    a.panels.message_is_error = true;
+    if (a.panels.autosave_error != e.what()) std::fprintf(stderr, "anisurf: %s\n", e.what());
+    a.panels.autosave_error = e.what();  // shown in red at the top of the panel
   }
 }
 
-void write_autosave(const EditorSession& s, std::size_t* saved_lines) {
-  if (s.journal().size() == *saved_lines) return;
-  const std::string path = autosave_path();
-  std::error_code ec;
-  std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
-  std::ofstream out(path + ".tmp");
-  out << "# anisurf editor session (autosave): replay with anisurf --script " << path << "\n";
-  for (const auto& l : s.journal()) out << l << "\n";
-  out.close();
-  if (out) std::filesystem::rename(path + ".tmp", path, ec);
-  *saved_lines = s.journal().size();
-}
-
 // Recent files, kept next to the autosave (one per line).
-std::string recent_path() { return (std::filesystem::path(autosave_path()).parent_path() / "recent.txt").string(); }
+std::string recent_path() { return (std::filesystem::path(autosave_dir()) / "recent.txt").string(); }
 
 void load_recent(PanelState& p) {
   std::ifstream in(recent_path());
@@ -221,11 +249,17 @@ void load_recent(PanelState& p) {
     if (!line.empty()) p.recent.push_back(line);
 }
 
+// At exit (no window left to show an error in): a failure goes to stderr.
 void save_recent(const PanelState& p) {
-  std::error_code ec;
-  std::filesystem::create_directories(std::filesystem::path(recent_path()).parent_path(), ec);
-  std::ofstream out(recent_path());
-  for (const auto& r : p.recent) out << r << "\n";
+  try {
+    std::error_code ec;
+    std::filesystem::create_directories(std::filesystem::path(recent_path()).parent_path(), ec);
+    AtomicFile out(recent_path());
+    for (const auto& r : p.recent) out.stream() << r << "\n";
+    out.commit();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "anisurf: the recent files were not saved: %s\n", e.what());
+  }
 }
 
 struct GlfwLib {
@@ -240,15 +274,6 @@ struct GlfwLib {
 };
 
 }  // namespace
-
-std::string autosave_path() {
-  const char* state = std::getenv("XDG_STATE_HOME");
-  const char* home = std::getenv("HOME");
-  std::filesystem::path base = state && *state ? std::filesystem::path(state)
-                               : home && *home  ? std::filesystem::path(home) / ".local" / "state"
-                                                : std::filesystem::temp_directory_path();
-  return (base / "anisurf" / "autosave.anisurf").string();
-}
 
 int run_editor_window(const std::string& mesh, const std::string& sol, const ScriptOptions& o) {
   std::vector<ScriptLine> script;
@@ -274,7 +299,6 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
   glfwSetMouseButtonCallback(window, on_mouse_button);
   glfwSetCursorPosCallback(window, on_cursor);
   glfwSetScrollCallback(window, on_scroll);
-  glfwSetKeyCallback(window, on_key);
   glfwSetDropCallback(window, on_drop);
   glfwSetWindowCloseCallback(window, on_close);
 
@@ -282,6 +306,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
   render::ImGuiSession imgui;
   ImGui_ImplGlfw_InitForOpenGL(window, true);
   ImGui_ImplOpenGL3_Init("#version 330 core");
+  glfwSetKeyCallback(window, on_key_event);  // after ImGui's: it passes keys on itself
   struct BackendGuard {
     ~BackendGuard() {
       ImGui_ImplOpenGL3_Shutdown();
@@ -289,14 +314,36 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     }
   } backends;
 
-  if (script.empty()) load_recent(a.panels);
+  // The autosave: this launch's own file; the others' are listed (the
+  // oldest beyond 20 pruned) and the newest is offered.
+  const std::string autosave_directory = autosave_dir();
+  Autosave autosave(autosave_directory, std::time(nullptr), static_cast<long>(::getpid()));
+  std::error_code dir_ec;
+  std::filesystem::file_time_type listed_at{};
+  auto list_others = [&] {
+    a.panels.autosaves = list_autosaves(autosave_directory, autosave.path());
+    listed_at = std::filesystem::last_write_time(autosave_directory, dir_ec);
+  };
+  if (script.empty()) {
+    load_recent(a.panels);
+    prune_autosaves(autosave_directory, 20);
+    list_others();
+    // The newest, when it holds unsaved work (a session that ended saved
+    // is only listed).
+    if (!a.panels.autosaves.empty() && a.panels.autosaves.front().unsaved > 0) {
+      const AutosaveEntry& e = a.panels.autosaves.front();
+      a.panels.offer = e;
+      std::fprintf(stderr, "anisurf: offering the autosave of an earlier session: %s (%s)\n", e.path.c_str(),
+                   e.describe().c_str());
+    }
+  }
   if (!mesh.empty()) {
     a.session.open(mesh, sol);
     a.panels.open_path = mesh;
     a.panels.open_sol = sol;
     remember_recent(a.panels, mesh + (sol.empty() ? "" : "|" + sol));
   }
-  std::size_t next_line = 0, autosaved = 0;
+  std::size_t next_line = 0;
   std::string pending_shot;
   int exit_code = 0;
   bool quit = false;
@@ -323,6 +370,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     const auto frame_start = Clock::now();
     const bool busy = a.session.running() || a.session.measuring() || !a.ev.settled(a.session, a.view) ||
                       next_line < script.size() || !pending_shot.empty();
+    release_held_keys(window, a);
     if (!busy && frame_start - a.last_event > std::chrono::seconds(1))
       glfwWaitEventsTimeout(0.25);
     else
@@ -341,7 +389,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
         execute(line, a.session, a.view, host);
         if (line.words[0] == "open") {
           a.panels.open_path = line.words[1];
-          a.panels.edit_valid = false;
+          a.panels.draft.valid = false;
         }
       } catch (const std::exception& e) {
         std::cerr << "anisurf: " << e.what() << "\n";
@@ -360,7 +408,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     // Hover: the element under the mouse (not while dragging, nor while a
     // script plays: its screenshots show no tooltip).
     a.panels.hover.reset();
-    if (next_line >= script.size() && !a.rotating && !a.panels.quit_requested && frame_start - a.last_event < std::chrono::seconds(2)) {
+    if (next_line >= script.size() && !a.rotating && !ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId | ImGuiPopupFlags_AnyPopupLevel) && frame_start - a.last_event < std::chrono::seconds(2)) {
       int ww = 1, wh = 1;
       glfwGetWindowSize(window, &ww, &wh);
       a.panels.hover = a.ev.hover(a.scene, static_cast<float>(a.mx * fbw / ww), static_cast<float>(a.my * fbh / wh), fbw, fbh);
@@ -435,8 +483,10 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
       fps_start = now;
     }
     if (now - last_autosave > std::chrono::seconds(5) && script.empty()) {
-      write_autosave(a.session, &autosaved);
+      write_autosave(a, autosave);
       last_autosave = now;
+      // Another launch added or removed an autosave: list them again.
+      if (std::filesystem::last_write_time(autosave_directory, dir_ec) != listed_at) list_others();
     }
     // While the adaptation runs the frame rate is capped lower (15 fps keeps
     // the window responsive and leaves the worker most of the machine).
@@ -444,7 +494,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     std::this_thread::sleep_until(frame_start + std::chrono::duration_cast<Clock::duration>(cap));
   }
   if (script.empty()) {
-    write_autosave(a.session, &autosaved);
+    write_autosave(a, autosave);
     save_recent(a.panels);
   }
   a.session.pause();

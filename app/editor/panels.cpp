@@ -9,7 +9,7 @@
 #include <filesystem>
 
 #include "core/error.h"
-#include "editor/editor_app.h"
+#include "editor/autosave.h"
 #include "editor/script.h"
 #include "render/pick.h"
 #include "metric/length.h"
@@ -43,19 +43,98 @@ void act(PanelState& p, const std::string& ok, F&& f) {
 }
 
 // --- File -----------------------------------------------------------------------
+void perform(EditorSession& s, ViewState& v, PanelState& p, const PanelState::Pending& a) {
+  switch (a.action) {
+    case PanelState::Action::None: break;
+    case PanelState::Action::Open:
+      act(p, "opened " + a.mesh, [&] {
+        s.open(a.mesh, a.sol);
+        remember_recent(p, a.mesh + (a.sol.empty() ? "" : "|" + a.sol));
+        p.open_path = a.mesh;
+        p.open_sol = a.sol;
+        v.fit_request = true;
+        p.draft.valid = false;
+      });
+      break;
+    case PanelState::Action::Restore: {
+      int skipped = 0;
+      act(p, "restored " + a.mesh, [&] {
+        skipped = restore_autosave(a.mesh, s, v);
+        v.fit_request = true;
+        p.draft.valid = false;
+      });
+      if (!p.message_is_error && skipped > 0)
+        p.message += " (" + std::to_string(skipped) + " save / screenshot lines not replayed: no file written)";
+      if (s.has_mesh()) {
+        p.open_path = s.mesh_path();
+        p.open_sol.clear();
+      }
+      break;
+    }
+    case PanelState::Action::Quit: p.quit_confirmed = true; break;
+  }
+}
+
+// Saves to the panel's paths; asks first when that would overwrite a file
+// the session did not write. Returns true when the files were written.
+bool save_checked(EditorSession& s, PanelState& p, bool continue_pending) {
+  if (p.save_mesh.empty()) {
+    p.message = "save: no mesh path";
+    p.message_is_error = true;
+    return false;
+  }
+  p.overwrite = s.would_overwrite(p.save_mesh, p.save_sol);
+  if (!p.overwrite.empty()) {
+    p.ask_overwrite = true;
+    p.continue_pending = continue_pending;
+    return false;
+  }
+  const std::string what = absolute_path(p.save_mesh) + (p.save_sol.empty() ? "" : " and " + absolute_path(p.save_sol));
+  act(p, "saved " + what, [&] { s.save(p.save_mesh, p.save_sol); });
+  return !p.message_is_error;
+}
+
+// The files a save writes, in full.
+void save_targets(const PanelState& p) {
+  ImGui::TextDisabled("writes %s", p.save_mesh.empty() ? "(no path)" : absolute_path(p.save_mesh).c_str());
+  if (!p.save_sol.empty()) ImGui::TextDisabled("   and %s", absolute_path(p.save_sol).c_str());
+}
+
+void autosave_section(EditorSession& s, ViewState& v, PanelState& p) {
+  if (!p.autosave_error.empty()) {
+    ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1), "autosave: failed (the error is shown above)");
+  } else if (!p.autosave_path.empty()) {
+    ImGui::TextDisabled("autosave: %s", std::filesystem::path(p.autosave_path).filename().string().c_str());
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", p.autosave_path.c_str());
+  } else {
+    ImGui::TextDisabled("autosave: written after the first edit");
+  }
+  if (p.autosaves.empty()) return;
+  if (ImGui::TreeNode("autosaved sessions", "autosaved sessions (%zu)", p.autosaves.size())) {
+    for (std::size_t i = 0; i < p.autosaves.size() && i < 12; ++i) {
+      const AutosaveEntry& e = p.autosaves[i];
+      ImGui::PushID(static_cast<int>(i));
+      if (ImGui::SmallButton("Restore")) request(s, v, p, {PanelState::Action::Restore, e.path, {}});
+      ImGui::PopID();
+      const std::string tip = e.describe() + "\n" + e.path + "\nRestore replays its edits, not its saves (no file is written)";
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", tip.c_str());
+      // One short row: the input, the start (month-day hour:minute), the edits.
+      const std::string input = std::filesystem::path(e.input.empty() ? e.path : e.input).filename().string();
+      std::string row = input + (e.started.size() >= 16 ? " " + e.started.substr(5, 11) : std::string()) + ", " +
+                        std::to_string(e.edits) + (e.edits == 1 ? " edit" : " edits") + (e.unsaved == 0 ? ", saved" : "");
+      ImGui::SameLine();
+      ImGui::TextUnformatted(row.c_str());
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", tip.c_str());
+    }
+    ImGui::TreePop();
+  }
+}
+
 void file_panel(EditorSession& s, ViewState& v, PanelState& p) {
   if (!ImGui::CollapsingHeader("File")) return;
   input_text("mesh##open", p.open_path);
   input_text("sol (optional)##open", p.open_sol);
-  if (ImGui::Button("Open")) {
-    act(p, "opened " + p.open_path, [&] {
-      if (s.dirty()) s.log("# unsaved work replaced by open");
-      s.open(p.open_path, p.open_sol);
-      remember_recent(p, p.open_path + (p.open_sol.empty() ? "" : "|" + p.open_sol));
-      v.fit_request = true;
-      p.edit_valid = false;
-    });
-  }
+  if (ImGui::Button("Open")) request(s, v, p, {PanelState::Action::Open, p.open_path, p.open_sol});
   ImGui::SameLine();
   ImGui::TextDisabled("(or drop a file on the window)");
   if (!p.recent.empty()) {
@@ -70,25 +149,20 @@ void file_panel(EditorSession& s, ViewState& v, PanelState& p) {
       ImGui::EndCombo();
     }
   }
-  const std::string autosave = autosave_path();
-  std::error_code ec;
-  if (std::filesystem::exists(autosave, ec) && ImGui::Button("Restore the autosaved session")) {
-    act(p, "restored " + autosave, [&] {
-      s.reset();
-      for (const auto& line : read_script(autosave)) {
-        execute(line, s, v, {});
-        s.wait();
-      }
-      p.edit_valid = false;
-    });
-  }
+  autosave_section(s, v, p);
   ImGui::Separator();
   input_text("save mesh", p.save_mesh);
   input_text("save metric", p.save_sol);
-  if (ImGui::Button("Save mesh + metric"))
-    act(p, "saved " + p.save_mesh, [&] { s.save(p.save_mesh, p.save_sol); });
+  ImGui::BeginDisabled(!s.has_mesh());
+  if (ImGui::Button("Save")) save_checked(s, p, false);
   ImGui::SameLine();
-  if (ImGui::Button("Save mesh")) act(p, "saved " + p.save_mesh, [&] { s.save(p.save_mesh); });
+  if (ImGui::Button("Save as...")) {
+    p.save_as_mesh = p.save_mesh;
+    p.save_as_sol = p.save_sol;
+    p.ask_save_as = true;
+  }
+  ImGui::EndDisabled();
+  save_targets(p);
   input_text("screenshot", p.shot_path);
   if (ImGui::Button("Screenshot") && p.screenshot)
     act(p, "wrote " + p.shot_path, [&] { p.screenshot(p.shot_path); });
@@ -97,12 +171,11 @@ void file_panel(EditorSession& s, ViewState& v, PanelState& p) {
 // --- Metric ---------------------------------------------------------------------
 void metric_panel(EditorSession& s, PanelState& p) {
   if (!ImGui::CollapsingHeader("Metric", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  if (!p.edit_valid || (!ImGui::IsAnyItemActive() && !(p.edit == s.settings()) && p.preview_error.empty())) {
-    p.edit = s.settings();
-    p.edit_valid = true;
+  if (p.draft.follow(s.settings())) {
     p.preview_vertices = s.predicted_vertices();
+    p.preview_error.clear();
   }
-  MetricSettings& e = p.edit;
+  MetricSettings& e = p.draft.edit;
   bool changed = false, commit = false;
   int src = static_cast<int>(e.source);
   const char* names[] = {"iso size", "size expression", "Hessian", "curvature", "loaded .sol"};
@@ -142,8 +215,11 @@ void metric_panel(EditorSession& s, PanelState& p) {
   }
   float hgrad = static_cast<float>(e.hgrad);
   ImGui::SetNextItemWidth(200);
-  track(ImGui::SliderFloat("hgrad (1: off)", &hgrad, 1.0f, 3.0f, "%.2f"));
-  e.hgrad = hgrad;
+  const bool hgrad_moved = ImGui::SliderFloat("hgrad (1: off)", &hgrad, 1.0f, 3.0f, "%.2f");
+  track(hgrad_moved);
+  // Only a moved slider sets the ratio (to the two decimals shown): the
+  // float would otherwise turn 1.3 into 1.29999995, a change of settings.
+  if (hgrad_moved) e.hgrad = std::round(static_cast<double>(hgrad) * 100.0) / 100.0;
   if (e.source != MetricSettings::Source::Curvature) {
     ImGui::SetNextItemWidth(200);
     track(ImGui::InputDouble("hausd bound (0: diagonal/1000 for a .sol or a Hessian)", &e.hausd_bound, 0, 0, "%.4g"));
@@ -534,30 +610,164 @@ void hover_tooltip(EditorSession& s, EditorView* view, PanelState& p) {
   (void)view;
 }
 
-void quit_dialog(EditorSession& s, PanelState& p) {
-  if (p.quit_requested) {
-    ImGui::OpenPopup("Quit?");
-    p.quit_requested = false;
+const char* action_words(const PanelState::Pending& a) {
+  switch (a.action) {
+    case PanelState::Action::Open: return "Open";
+    case PanelState::Action::Restore: return "Restore";
+    case PanelState::Action::Quit: return "Quit";
+    case PanelState::Action::None: break;
   }
-  if (ImGui::BeginPopupModal("Quit?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-    ImGui::TextUnformatted("The session has unsaved changes (the autosave keeps them).");
-    if (ImGui::Button("Save and quit")) {
-      act(p, "saved", [&] { s.save(p.save_mesh, p.save_sol); });
-      if (!p.message_is_error) p.quit_confirmed = true;
-      ImGui::CloseCurrentPopup();
+  return "";
+}
+
+// "Unsaved changes": Save (then the action), Discard (the action), Cancel.
+void unsaved_dialog(EditorSession& s, ViewState& v, PanelState& p) {
+  if (p.ask_unsaved) {
+    ImGui::OpenPopup("Unsaved changes");
+    p.ask_unsaved = false;
+  }
+  ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+  if (!ImGui::BeginPopupModal("Unsaved changes", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
+  const PanelState::Pending& a = p.pending;
+  ImGui::Text("The session on %s has unsaved changes.", s.has_mesh() ? s.mesh_path().c_str() : "(no mesh)");
+  switch (a.action) {
+    case PanelState::Action::Open: ImGui::Text("Open %s replaces it.", a.mesh.c_str()); break;
+    case PanelState::Action::Restore: ImGui::Text("Restoring %s replaces it.", a.mesh.c_str()); break;
+    case PanelState::Action::Quit: ImGui::TextUnformatted("Quitting closes it."); break;
+    case PanelState::Action::None: break;
+  }
+  ImGui::Spacing();
+  ImGui::TextUnformatted("Save first writes the mesh shown and its metric:");
+  save_targets(p);
+  ImGui::TextDisabled("(the autosave keeps the edits either way: File > autosaved sessions)");
+  ImGui::Spacing();
+  const std::string save_label = std::string("Save, then ") + action_words(a);
+  if (ImGui::Button(save_label.c_str())) {
+    ImGui::CloseCurrentPopup();
+    if (save_checked(s, p, true)) {
+      const PanelState::Pending go = p.pending;
+      p.pending = {};
+      perform(s, v, p, go);
+    }
+  }
+  ImGui::SameLine();
+  const std::string discard_label = std::string("Discard, then ") + action_words(a);
+  if (ImGui::Button(discard_label.c_str())) {
+    ImGui::CloseCurrentPopup();
+    const PanelState::Pending go = p.pending;
+    p.pending = {};
+    perform(s, v, p, go);
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Cancel")) {
+    ImGui::CloseCurrentPopup();
+    p.pending = {};
+  }
+  ImGui::EndPopup();
+}
+
+// "Overwrite?": the files a save would replace; Overwrite saves (then the
+// pending action when the save came from "Unsaved changes").
+void overwrite_dialog(EditorSession& s, ViewState& v, PanelState& p) {
+  if (p.ask_overwrite) {
+    ImGui::OpenPopup("Overwrite?");
+    p.ask_overwrite = false;
+  }
+  ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+  if (!ImGui::BeginPopupModal("Overwrite?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
+  ImGui::TextUnformatted(p.overwrite.size() == 1 ? "This file exists and would be replaced:"
+                                                 : "These files exist and would be replaced:");
+  for (const auto& f : p.overwrite) ImGui::BulletText("%s", f.c_str());
+  if (ImGui::Button("Overwrite")) {
+    ImGui::CloseCurrentPopup();
+    const std::string what = absolute_path(p.save_mesh) + (p.save_sol.empty() ? "" : " and " + absolute_path(p.save_sol));
+    act(p, "saved " + what, [&] { s.save(p.save_mesh, p.save_sol); });
+    p.overwrite.clear();
+    if (!p.message_is_error && p.continue_pending) {
+      const PanelState::Pending go = p.pending;
+      p.pending = {};
+      perform(s, v, p, go);
+    }
+    p.continue_pending = false;
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Cancel")) {
+    ImGui::CloseCurrentPopup();
+    p.overwrite.clear();
+    if (p.continue_pending) p.pending = {};
+    p.continue_pending = false;
+    p.message = "not saved";
+    p.message_is_error = false;
+  }
+  ImGui::EndPopup();
+}
+
+// "Save as": the two paths; Save goes through the overwrite check.
+void save_as_dialog(EditorSession& s, PanelState& p) {
+  if (p.ask_save_as) {
+    ImGui::OpenPopup("Save as");
+    p.ask_save_as = false;
+  }
+  ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+  if (!ImGui::BeginPopupModal("Save as", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
+  input_text("mesh##saveas", p.save_as_mesh, 460);
+  input_text("metric (empty: none)##saveas", p.save_as_sol, 460);
+  ImGui::TextDisabled("existing directories only; a file that exists is replaced after a confirmation");
+  if (ImGui::Button("Save")) {
+    ImGui::CloseCurrentPopup();
+    p.save_mesh = p.save_as_mesh;
+    p.save_sol = p.save_as_sol;
+    save_checked(s, p, false);
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+  ImGui::EndPopup();
+}
+
+// The newest autosave of another launch, offered at start (not modal: the
+// view stays usable).
+void offer_window(EditorSession& s, ViewState& v, PanelState& p) {
+  if (!p.offer) return;
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(ImVec2(vp->GetCenter().x, vp->Pos.y + 40), ImGuiCond_Appearing, ImVec2(0.5f, 0.0f));
+  ImGui::SetNextWindowBgAlpha(0.96f);
+  bool open = true;
+  if (ImGui::Begin("Restore an earlier session?", &open,
+                   ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoCollapse)) {
+    ImGui::TextUnformatted("An earlier launch autosaved its session:");
+    ImGui::BulletText("%s", p.offer->describe().c_str());
+    ImGui::TextDisabled("%s", p.offer->path.c_str());
+    ImGui::TextDisabled("Restore replays its edits, not its saves (no file is written).");
+    if (ImGui::Button("Restore")) {
+      request(s, v, p, {PanelState::Action::Restore, p.offer->path, {}});
+      open = false;
     }
     ImGui::SameLine();
-    if (ImGui::Button("Quit without saving")) {
-      p.quit_confirmed = true;
-      ImGui::CloseCurrentPopup();
-    }
+    if (ImGui::Button("Not now")) open = false;
     ImGui::SameLine();
-    if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
-    ImGui::EndPopup();
+    ImGui::TextDisabled("(File > autosaved sessions lists them all)");
   }
+  ImGui::End();
+  if (!open) p.offer.reset();
 }
 
 }  // namespace
+
+bool SettingsDraft::follow(const MetricSettings& session) {
+  if (valid && session == base) return false;
+  edit = base = session;
+  valid = true;
+  return true;
+}
+
+void request(EditorSession& session, ViewState& view, PanelState& panels, PanelState::Pending action) {
+  if (session.has_mesh() && session.dirty()) {
+    panels.pending = std::move(action);
+    panels.ask_unsaved = true;
+    return;
+  }
+  perform(session, view, panels, action);
+}
 
 void remember_recent(PanelState& p, const std::string& path) {
   p.recent.erase(std::remove(p.recent.begin(), p.recent.end(), path), p.recent.end());
@@ -570,6 +780,12 @@ void draw_panels(EditorSession& session, ViewState& view, PanelState& panels, re
   // The legend (colour bar, curves, glyph key) from the renderer's UI.
   ui.show_panel = false;
   render::draw_ui(scene, ui, width, height);
+  // The save paths follow the opened file (beside it, with its name).
+  if (session.has_mesh() && session.opened() != panels.opened_seen) {
+    panels.opened_seen = session.opened();
+    panels.save_mesh = default_save_mesh(session.mesh_path());
+    panels.save_sol = default_save_sol(session.mesh_path());
+  }
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(380, static_cast<float>(height) - 16), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowBgAlpha(0.90f);
@@ -580,10 +796,22 @@ void draw_panels(EditorSession& session, ViewState& view, PanelState& panels, re
       ImGui::TextDisabled("%d vertices, %d triangles%s", d.snapshot->mesh.n_vertices(), d.snapshot->mesh.n_triangles(),
                           session.dirty() ? "  (modified)" : "");
     }
+    if (session.has_mesh()) {
+      const FeatureReport& f = session.features();
+      ImGui::TextDisabled("features: %d edges, %d corners (%s)", f.feature_edges, f.corners,
+                          session.features_from_file() ? "as listed in the file" : "detected");
+    }
     if (panels.fps > 0) ImGui::TextDisabled("%.0f fps", panels.fps);
-    if (!panels.message.empty())
-      ImGui::TextColored(panels.message_is_error ? ImVec4(0.8f, 0.1f, 0.1f, 1) : ImVec4(0.2f, 0.4f, 0.2f, 1), "%s",
-                         panels.message.c_str());
+    if (!panels.autosave_error.empty()) {
+      ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.8f, 0.1f, 0.1f, 1));
+      ImGui::TextWrapped("%s", panels.autosave_error.c_str());
+      ImGui::PopStyleColor();
+    }
+    if (!panels.message.empty()) {
+      ImGui::PushStyleColor(ImGuiCol_Text, panels.message_is_error ? ImVec4(0.8f, 0.1f, 0.1f, 1) : ImVec4(0.2f, 0.4f, 0.2f, 1));
+      ImGui::TextWrapped("%s", panels.message.c_str());
+      ImGui::PopStyleColor();
+    }
     file_panel(session, view, panels);
     metric_panel(session, panels);
     brush_panel(session, view, panels);
@@ -620,7 +848,10 @@ void draw_panels(EditorSession& session, ViewState& view, PanelState& panels, re
     }
   }
   if (!view.paint_tool) hover_tooltip(session, nullptr, panels);
-  quit_dialog(session, panels);
+  offer_window(session, view, panels);
+  unsaved_dialog(session, view, panels);
+  overwrite_dialog(session, view, panels);
+  save_as_dialog(session, panels);
 }
 
 }  // namespace anisurf::editor

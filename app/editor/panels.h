@@ -1,6 +1,7 @@
 // The editor's Dear ImGui panels (the UI layer): File, Metric, Brush,
-// Adaptation, Analysis, G1 surface, Display, the hover tooltip and the quit
-// confirmation. They read the session and call its actions; they own only
+// Adaptation, Analysis, G1 surface, Display, the hover tooltip, and the
+// dialogs that protect work (unsaved changes, overwrite, save as, the
+// autosave offered at start). They read the session and call its actions; they own only
 // UI state (text fields, recent files, messages).
 #pragma once
 #include <functional>
@@ -8,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "editor/autosave.h"
 #include "editor/editor_view.h"
 #include "editor/session.h"
 #include "editor/view_state.h"
@@ -16,23 +18,66 @@
 
 namespace anisurf::editor {
 
+// The Metric panel's fields: the settings being typed. They follow the
+// session's settings when those change (undo, a script, a commit) and are
+// kept otherwise, so that a value typed into a field is committed when the
+// field is left by Enter, Tab or a click elsewhere alike.
+struct SettingsDraft {
+  MetricSettings edit;  // what the fields show
+  MetricSettings base;  // the session's settings the draft started from
+  bool valid = false;
+  // Takes the session's settings when they are not `base` any more (or on
+  // the first call); returns true when it did (the draft was replaced).
+  bool follow(const MetricSettings& session);
+  // The fields differ from the session's settings.
+  bool pending() const { return valid && !(edit == base); }
+};
+
 struct PanelState {
-  std::string open_path, open_sol, save_mesh = "out/adapted.mesh", save_sol = "out/adapted.sol",
-                                    shot_path = "out/editor.png";
+  // Open: the paths typed; save: where Save writes (beside the opened file,
+  // with its name, unless the user changed them; save_sol empty: the mesh
+  // only); the screenshot.
+  std::string open_path, open_sol, save_mesh, save_sol, shot_path = "out/editor.png";
+  int opened_seen = 0;  // session.opened() the save paths were set for
   std::vector<std::string> recent;  // most recent first
   std::string message;              // last action's result or error
   bool message_is_error = false;
   std::optional<HoverInfo> hover;   // set by the window each frame
   float fps = 0;
-  bool quit_requested = false;      // the window asked to close with unsaved work
-  bool quit_confirmed = false;      // the user confirmed: close
-  // Metric panel: the settings being edited (applied on release / Enter).
-  MetricSettings edit;
-  bool edit_valid = false;
+  bool quit_confirmed = false;      // close the window (nothing unsaved, or the user said so)
+  // Actions that would drop unsaved work wait for the user's answer in the
+  // "Unsaved changes" dialog (Save / Discard / Cancel).
+  enum class Action { None, Open, Restore, Quit };
+  struct Pending {
+    Action action = Action::None;
+    std::string mesh, sol;  // Open: the files; Restore: mesh = the autosave
+  };
+  Pending pending;
+  bool ask_unsaved = false;        // open the dialog on the next frame
+  // A save onto files that exist (and that this session did not write)
+  // waits for the "Overwrite?" dialog; continue_pending: the pending action
+  // follows a successful save.
+  std::vector<std::string> overwrite;
+  bool ask_overwrite = false;
+  bool continue_pending = false;
+  bool ask_save_as = false;
+  std::string save_as_mesh, save_as_sol;
+  // Autosave: this launch's file ("" before its first write), the last
+  // write's error ("" when it worked), the other launches' autosaves (newest
+  // first) and the one offered at start until it is answered.
+  std::string autosave_path, autosave_error;
+  std::vector<AutosaveEntry> autosaves;
+  std::optional<AutosaveEntry> offer;
+  // Metric panel: the settings being edited.
+  SettingsDraft draft;
   double preview_vertices = 0;
   std::string preview_error;
   std::function<void(const std::string&)> screenshot;  // writes a PNG of the window
 };
+
+// Runs `action` now when the session has no unsaved changes, else asks
+// first (the "Unsaved changes" dialog of the next frame).
+void request(EditorSession& session, ViewState& view, PanelState& panels, PanelState::Pending action);
 
 // Recent files: path added in front (kept unique, at most 8).
 void remember_recent(PanelState& p, const std::string& path);

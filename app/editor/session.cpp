@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "geometry/features.h"
 #include "io/mesh_io.h"
@@ -40,6 +41,12 @@ SymTensor3 blend(const SymTensor3& A, const SymTensor3& B, double w) {
 }
 
 }  // namespace
+
+std::string absolute_path(const std::string& path) {
+  std::error_code ec;
+  const std::filesystem::path a = std::filesystem::absolute(path, ec);
+  return ec ? path : a.lexically_normal().string();
+}
 
 const char* source_name(MetricSettings::Source s) {
   switch (s) {
@@ -113,7 +120,28 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
       throw Error(sol_path + ": " + e.what());
     }
   }
-  detect_features(*mesh);
+  // Features listed in the file (a mesh the editor saved) are kept as they
+  // are: detecting ridges again on an adapted mesh finds others.
+  bool listed = false;
+  for (Corner c : mesh->edges()) listed = listed || (mesh->edge_tags(c) & (kRidge | kRequired)) != 0;
+  std::vector<char> file_corner(static_cast<std::size_t>(mesh->vertex_capacity()), 0);
+  for (Vertex v : mesh->vertices())
+    if (mesh->has_tag(v, kCorner)) file_corner[static_cast<std::size_t>(v.idx)] = 1, listed = true;
+  FeatureOptions fo;
+  fo.detect_ridges = !listed;
+  FeatureReport features = detect_features(*mesh, fo);
+  if (listed) {
+    // detect_features() adds corners where a curve turns; of those only the
+    // ones the curves need (an end or a branch) stay.
+    features.corners = 0;
+    for (Vertex v : mesh->vertices()) {
+      if (!mesh->has_tag(v, kCorner)) continue;
+      if (!file_corner[static_cast<std::size_t>(v.idx)] && feature_edges_at(*mesh, v).size() == 2)
+        mesh->remove_vertex_tag(v, kCorner);
+      else
+        ++features.corners;
+    }
+  }
 
   retire_adaptation();
   wait_retired();  // their workers read the old mesh
@@ -132,10 +160,17 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
   if (!sol_path.empty() || !embedded.empty()) {
     s.source = MetricSettings::Source::Sol;
     s.sol_path = sol_path.empty() ? mesh_path : sol_path;
+    // A loaded metric is used as given: no gradation, no bounds.
+    s.hgrad = 1;
+    s.hausd_bound = 0;
+    s.hmin = 0;
+    s.hmax = std::numeric_limits<double>::infinity();
+    s.max_aniso = std::numeric_limits<double>::infinity();
     // As compute_metric() (and `anisurf adapt`): the recipe with the metric given.
     m = build_metric(*input_, metric_recipe(s, std::move(sol_metric)), vertex_origin_).metric;
   } else {
     if (s.source == MetricSettings::Source::Sol) s.source = MetricSettings::Source::Iso;
+    s.sol_path.clear();  // the previous mesh's metric file does not fit this mesh
     // A default iso size from the mesh (1/40 of its diagonal); the settings
     // of the previous mesh may not suit this one (an expression undefined
     // here, bounds): then the iso size without bounds.
@@ -156,6 +191,9 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
   predicted_vertices_ = anisurf::predicted_vertices(*input_, metric_);
   t0_snapshot_ = initial_snapshot();
   ++opened_;
+  features_ = features;
+  features_from_file_ = listed;
+  written_.clear();
   journal_.clear();
   logged_brush_ = "brush set 1";
   logged_direction_.clear();
@@ -742,10 +780,40 @@ void EditorSession::save(const std::string& mesh_path, const std::string& sol_pa
   m.compact();
   for (const std::string& p : {mesh_path, sol_path})
     if (!p.empty()) require_existing_directory(p);
-  save_mesh(mesh_path, m);
-  if (!sol_path.empty()) write_sol(sol_path, extract_fields(m), m.n_vertices(), 3);
+  // The mesh and its metric as one set: both replaced, or neither.
+  OutputSet outputs;
+  save_mesh(outputs.temporary(mesh_path), m);
+  if (!sol_path.empty()) write_sol(outputs.temporary(sol_path), extract_fields(m), m.n_vertices(), 3);
+  outputs.commit();
+  for (const std::string& p : {mesh_path, sol_path})
+    if (!p.empty()) {
+      const std::string a = absolute_path(p);
+      if (std::find(written_.begin(), written_.end(), a) == written_.end()) written_.push_back(a);
+    }
   log("save " + mesh_path + (sol_path.empty() ? "" : " " + sol_path));
   dirty_ = false;
+}
+
+std::vector<std::string> EditorSession::would_overwrite(const std::string& mesh_path, const std::string& sol_path) const {
+  std::vector<std::string> out;
+  for (const std::string& p : {mesh_path, sol_path}) {
+    if (p.empty()) continue;
+    std::error_code ec;
+    const std::string a = absolute_path(p);
+    if (std::filesystem::exists(p, ec) && std::find(written_.begin(), written_.end(), a) == written_.end())
+      out.push_back(a);
+  }
+  return out;
+}
+
+std::string default_save_mesh(const std::string& opened) {
+  std::filesystem::path p = absolute_path(opened);
+  return (p.parent_path() / (p.stem().string() + ".adapted.mesh")).string();
+}
+
+std::string default_save_sol(const std::string& opened) {
+  std::filesystem::path p = absolute_path(opened);
+  return (p.parent_path() / (p.stem().string() + ".adapted.sol")).string();
 }
 
 }  // namespace anisurf::editor

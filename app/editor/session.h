@@ -16,6 +16,7 @@
 
 #include "editor/adaptation.h"
 #include "editor/analysis.h"
+#include "geometry/features.h"
 #include "locate/surface_distance.h"
 #include "mesh/surface_mesh.h"
 #include "metric/metric_field.h"
@@ -40,6 +41,13 @@ struct MetricSettings {
   bool operator==(const MetricSettings&) const = default;
 };
 const char* source_name(MetricSettings::Source s);
+// `path` made absolute (and normal: no "." or ".." parts).
+std::string absolute_path(const std::string& path);
+// Where the editor saves by default: beside the opened file, with its name
+// ("dir/bunny.off" -> "dir/bunny.adapted.mesh", "dir/bunny.adapted.sol"),
+// absolute.
+std::string default_save_mesh(const std::string& opened);
+std::string default_save_sol(const std::string& opened);
 // The script line that selects the source of `s` ("metric iso 0.1").
 std::string source_line(const MetricSettings& s);
 
@@ -76,17 +84,30 @@ class EditorSession {
   ~EditorSession();
 
   // --- file -----------------------------------------------------------------
-  // Loads T_0 (features detected as `anisurf adapt` does); the metric comes
-  // from SOL when given (source Sol), else the current settings. Clears the
-  // undo stack and the adaptation. Throws Error with the file's message.
+  // Loads T_0 and its features: a file that lists features (Medit's Ridges,
+  // Corners, RequiredEdges, as save() writes them) keeps them as given (no
+  // ridge detection; corners added only where a feature curve ends or
+  // branches), else they are detected as `anisurf adapt` does. The metric
+  // comes from SOL when given (or from the file's own metric field): source
+  // Sol, used as given (gradation off, no bounds; the user may set them
+  // afterwards); else the current settings. Clears the undo stack and the
+  // adaptation. Throws Error with the file's message.
   void open(const std::string& mesh_path, const std::string& sol_path = {});
   bool has_mesh() const { return input_ != nullptr; }
   const std::string& mesh_path() const { return mesh_path_; }
   // Counts the meshes opened (a new one invalidates what views kept).
   int opened() const { return opened_; }
   const SurfaceMesh& input() const { return *input_; }
-  // Writes the displayed mesh and (if sol_path is not empty) its metric.
+  // How T_0's features were obtained at open(), and their counts.
+  bool features_from_file() const { return features_from_file_; }
+  const FeatureReport& features() const { return features_; }
+  // Writes the displayed mesh (with its features: Ridges, Corners,
+  // RequiredEdges in a .mesh) and (if sol_path is not empty) its metric.
   void save(const std::string& mesh_path, const std::string& sol_path = {});
+  // The files among mesh_path, sol_path (empty ones skipped) that exist and
+  // that this session did not write since the mesh was opened: what a save
+  // would overwrite and should ask about first.
+  std::vector<std::string> would_overwrite(const std::string& mesh_path, const std::string& sol_path = {}) const;
   // True when the metric or the mesh changed since open / save.
   bool dirty() const { return dirty_; }
 
@@ -272,6 +293,9 @@ class EditorSession {
   std::vector<Vec3> normals_;
   std::vector<SymTensor3> curvature_;
   std::vector<std::string> journal_;
+  std::vector<std::string> written_;  // absolute paths save() wrote since open()
+  bool features_from_file_ = false;
+  FeatureReport features_;
   std::string logged_brush_, logged_direction_;  // brush lines in the journal so far
   bool dirty_ = false;
   int opened_ = 0;
