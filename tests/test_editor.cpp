@@ -484,19 +484,21 @@ TEST_CASE("editor: a script's run, anisurf adapt and a library call give the sam
   {
     std::ofstream f(dir / "run.anisurf");
     // The editor uses a loaded metric as given; anisurf adapt grades it by
-    // default (hgrad 1.3): asked for here, the same metric.
+    // default (hgrad 1.3): asked for here, the same metric; and without
+    // the geometry protection (--hausd 0, protect_fraction 0) as the editor.
     f << "open " << mesh << " " << sol << "\nhgrad 1.3\nrun\nsave " << (dir / "editor.mesh").string() << " "
       << (dir / "editor.sol").string() << "\n";
   }
   REQUIRE(run_binary("env -u DISPLAY", "--script " + (dir / "run.anisurf").string() + " --headless", dir) == 0);
   int status = -1;
-  test::capture(std::string(ANISURF_BINARY) + " adapt '" + mesh + "' -sol '" + sol + "' -v 0 -o '" +
+  test::capture(std::string(ANISURF_BINARY) + " adapt '" + mesh + "' -sol '" + sol + "' --hausd 0 -v 0 -o '" +
                     (dir / "cli.mesh").string() + "'",
                 &status);
   REQUIRE(status == 0);
   BuildReport report;
   remesh::AdaptInput input{load_mesh(mesh, &report)};
   remesh::AdaptOptions o;
+  o.protect_fraction = 0;
   o.metric.source = MetricRecipe::Source::Given;
   SurfaceMesh with_fields = input.mesh;
   attach_fields(with_fields, read_sol(sol, report.input_vertices), report);

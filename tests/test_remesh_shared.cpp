@@ -162,12 +162,15 @@ bool adapt_checked(const std::string& name, TestMetric kind = TestMetric::Isotro
   }
   BezierGeometry geometry(input);
   ControlSpace control(input, metric, true);
-  AdaptedMesh adapted(input, geometry, control);
+  // As `anisurf adapt --hausd`: vertices within hausd / 5 of the input,
+  // curves and edges sagging by 0.7 hausd at most, and the final pass splits
+  // what lies farther than hausd onto the input.
+  const double hausd = diagonal / 1000;
+  InputBound bound;
+  if (kind == TestMetric::Curvature) bound.hausd = hausd;
+  AdaptedMesh adapted(input, geometry, control, LengthFormula::LinearMetric, false, bound);
   RemeshOptions o;
   o.op.lmin = 0.72;  // as `anisurf adapt`
-  // As `anisurf adapt --hausd`: curves and edges sag by 0.7 hausd at most,
-  // the final pass splits what lies farther than hausd onto the input.
-  const double hausd = diagonal / 1000;
   if (kind == TestMetric::Curvature) {
     o.op.curve_max_sag = o.op.surface_max_sag = 0.7 * hausd;
     o.distance_bound = hausd;

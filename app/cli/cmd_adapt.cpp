@@ -487,11 +487,14 @@ void print_summary(const AdaptCommandLine& c, int cycles, const remesh::AdaptRes
                 r.fixed_point ? " (fixed point: the vertex count changed by less than the tolerance)" : "");
   std::printf("operations   %d splits, %d collapses, %d swaps, %d moves, %d removed (valence < 4)\n", splits,
               collapses, swaps, moves, removed);
-  const double bound = c.hausd > 0 ? c.hausd : r.protection_hausd;
-  if (bound > 0 && !r.cycles.back().passes.empty()) {
+  const double hausd = c.hausd > 0 ? c.hausd : r.protection_hausd;
+  if (!r.cycles.back().passes.empty()) {
     const remesh::PassReport& last = r.cycles.back().passes.back();
-    std::printf("distance     %d splits onto the input; %d edge midpoints or centroids farther than %.4g (hausd)\n",
-                last.bound_splits, last.beyond_bound, bound);
+    char bound[96] = "1/4 of the size";
+    if (hausd > 0) std::snprintf(bound, sizeof bound, "hausd %.4g or 1/4 of the size", hausd);
+    if (hausd > 0 || last.bound_splits > 0 || last.beyond_bound > 0)
+      std::printf("distance     %d splits onto the input; %d edge midpoints or centroids farther than %s\n",
+                  last.bound_splits, last.beyond_bound, bound);
   }
   std::printf("remeshing    %.2f s, %s operations per second\n", run_seconds,
               format_rate(splits + collapses + swaps + moves + removed, run_seconds).c_str());

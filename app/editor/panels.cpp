@@ -222,7 +222,7 @@ void metric_panel(EditorSession& s, PanelState& p) {
   if (hgrad_moved) e.hgrad = std::round(static_cast<double>(hgrad) * 100.0) / 100.0;
   if (e.source != MetricSettings::Source::Curvature) {
     ImGui::SetNextItemWidth(200);
-    track(ImGui::InputDouble("hausd bound (0: diagonal/1000 for a .sol or a Hessian)", &e.hausd_bound, 0, 0, "%.4g"));
+    track(ImGui::InputDouble("hausd bound (0: diagonal/1000 for a Hessian)", &e.hausd_bound, 0, 0, "%.4g"));
   }
   ImGui::SetNextItemWidth(200);
   track(ImGui::InputDouble("hmin", &e.hmin, 0, 0, "%.4g"));

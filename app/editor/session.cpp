@@ -255,11 +255,12 @@ MetricRecipe EditorSession::metric_recipe(const MetricSettings& s, MetricField l
 
 double EditorSession::effective_hausd(const MetricSettings& s) const {
   if (s.source == MetricSettings::Source::Curvature) return s.hausd;
+  // A loaded metric is used as given: only a hausd bound the user sets.
+  if (s.source == MetricSettings::Source::Sol) return s.hausd_bound > 0 ? s.hausd_bound : 0;
   MetricRecipe r;
   r.hausd = s.hausd_bound > 0 ? s.hausd_bound : 0;
   r.source = s.source == MetricSettings::Source::Iso    ? MetricRecipe::Source::Iso
              : s.source == MetricSettings::Source::Size ? MetricRecipe::Source::Size
-             : s.source == MetricSettings::Source::Sol  ? MetricRecipe::Source::Given
                                                          : MetricRecipe::Source::Hessian;
   return remesh::effective_hausd(r, adapt_settings_.protect_fraction, input_ ? geometry_input().bbox().diagonal() : 0);
 }

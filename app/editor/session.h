@@ -189,8 +189,9 @@ class EditorSession {
   // cycles).
   const SurfaceMesh& geometry_input() const { return geometry_mesh_ ? *geometry_mesh_ : *input_; }
   // The chordal deviation the metric of `s` runs with: its curvature's, its
-  // hausd bound, or the geometry protection of `anisurf adapt`
-  // (remesh::effective_hausd with T_G's diagonal), or 0.
+  // hausd bound, or for a Hessian the geometry protection of `anisurf adapt`
+  // (remesh::effective_hausd with T_G's diagonal; a loaded metric is used as
+  // given), or 0.
   double effective_hausd(const MetricSettings& s) const;
   // The distance from a state of the timeline to T_G (vertices, edge
   // midpoints, centroids: locate/surface_distance.h) is measured in a thread

@@ -118,13 +118,18 @@ Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, const std::vector<V
   return p;
 }
 
-double AdaptedMesh::distance_to_input(const Vec3& x, std::initializer_list<Vertex> near) {
+AdaptedMesh::InputDistance AdaptedMesh::distance_to_input(const Vec3& x, std::initializer_list<Vertex> near) {
   std::array<Hint, 4> hg{};
   std::size_t n = 0;
   for (Vertex v : near)
     if (n < hg.size() && hint_g_[v].is_valid()) hg[n++] = hint_g_[v];
   const Projection pr = geometry_.project(x, std::span<const Hint>(hg.data(), n), Constraint::Free);
-  return norm(x - (pr.location.is_valid() ? pr.location.point : pr.point));
+  InputDistance out;
+  out.distance = norm(x - (pr.location.is_valid() ? pr.location.point : pr.point));
+  const Triangle t = pr.location.triangle;
+  if (bound_.enabled && t.is_valid() && static_cast<std::size_t>(t.idx) < sagitta_.size())
+    out.natural = bound_.natural_factor * sagitta_[static_cast<std::size_t>(t.idx)];
+  return out;
 }
 
 double AdaptedMesh::input_tolerance(Triangle t, const SymTensor3& M) const {

@@ -114,8 +114,14 @@ class AdaptedMesh {
   bool pulled_to_input(Vertex v) const { return on_surface_[v] == 2; }
   // Distance from x to the polyhedral T_G (its closest point, searched from
   // the hints of the vertices `near`): what the output's distance to the
-  // input is measured with.
-  double distance_to_input(const Vec3& x, std::initializer_list<Vertex> near);
+  // input is measured with; and the natural deviation of the smooth surface
+  // from T_G there (InputBound: natural_factor x the sagitta of the closest
+  // point's triangle; 0 when the bound is off or unknown).
+  struct InputDistance {
+    double distance = 0;
+    double natural = 0;
+  };
+  InputDistance distance_to_input(const Vec3& x, std::initializer_list<Vertex> near);
   // The largest distance the bound allows from T_G at a point of T_G's
   // triangle `t` where the metric is M (InputBound).
   double input_tolerance(Triangle t, const SymTensor3& M) const;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <new>
 #include <queue>
 #include <stdexcept>
@@ -400,47 +401,73 @@ void Remesher::final_pass(PassReport& r) {
   if (!r.interrupted) bound_distance(r);
 }
 
-std::vector<Remesher::EdgeItem> Remesher::edges_beyond_bound() {
+std::vector<Remesher::BeyondBound> Remesher::edges_beyond_bound() {
   SurfaceMesh& mesh = mesh_.mesh();
-  const double bound = options_.distance_bound;
-  std::vector<EdgeItem> out;
+  const double absolute = options_.distance_bound > 0 ? options_.distance_bound : INFINITY;
+  const double relative = options_.relative_distance_bound;
+  // The relative share of the size the metric asks for along edge u-w.
+  auto relative_bound = [&](Vertex u, Vertex w) {
+    const double metric_length = mesh_.length(u, w);
+    if (!(relative > 0) || !(metric_length > 0)) return std::numeric_limits<double>::infinity();
+    return relative * norm(mesh.position(w) - mesh.position(u)) / metric_length;
+  };
+  // The bound at a point: the absolute one, or the relative one beyond the
+  // smooth surface's own deviation from T_G there (a coarse smooth input
+  // lies inside the surface its vertices ask for: section 7.2).
+  auto bound_at = [&](const AdaptedMesh::InputDistance& d, double relative_part) {
+    return std::min(absolute, relative_part + d.natural);
+  };
+  std::vector<BeyondBound> out;
   for (Triangle t : mesh.triangles()) {
-    const Vertex a = mesh.vertex(t, 0), b = mesh.vertex(t, 1), c = mesh.vertex(t, 2);
-    const Vec3 pa = mesh.position(a), pb = mesh.position(b), pc = mesh.position(c);
-    // Each edge at its canonical corner (the edge of corner k runs from
-    // vertex k + 1 to k + 2).
+    const std::array<Vertex, 3> v = {mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2)};
+    double relative_sum = 0;
     for (int k = 0; k < 3; ++k) {
       const Corner e = M::corner(t, k);
+      const Vertex u = mesh.edge_from(e), w = mesh.edge_to(e);
+      const double rel = relative_bound(u, w);
+      relative_sum += rel;
+      // Each edge at its canonical corner (the edge of corner k runs from
+      // vertex k + 1 to k + 2).
       const Corner o = mesh.opposite(e);
       if (o.is_valid() && o.idx < e.idx) continue;
-      const Vertex u = mesh.edge_from(e), w = mesh.edge_to(e);
-      const double d = mesh_.distance_to_input(0.5 * (mesh.position(u) + mesh.position(w)), {u, w});
-      if (d > bound) out.push_back({d, u.idx, w.idx});
+      const auto d = mesh_.distance_to_input(0.5 * (mesh.position(u) + mesh.position(w)), {u, w});
+      const double bound = bound_at(d, rel);
+      if (d.distance > bound) out.push_back({d.distance, bound, u.idx, w.idx});
     }
-    const double d = mesh_.distance_to_input((pa + pb + pc) / 3.0, {a, b, c});
-    if (!(d > bound)) continue;
+    const Vec3 pa = mesh.position(v[0]), pb = mesh.position(v[1]), pc = mesh.position(v[2]);
+    const auto d = mesh_.distance_to_input((pa + pb + pc) / 3.0, {v[0], v[1], v[2]});
+    const double bound = bound_at(d, relative_sum / 3);
+    if (!(d.distance > bound)) continue;
     const double lab = norm2(pb - pa), lbc = norm2(pc - pb), lca = norm2(pa - pc);
-    if (lab >= lbc && lab >= lca) out.push_back({d, a.idx, b.idx});
-    else if (lbc >= lca) out.push_back({d, b.idx, c.idx});
-    else out.push_back({d, c.idx, a.idx});
+    if (lab >= lbc && lab >= lca) out.push_back({d.distance, bound, v[0].idx, v[1].idx});
+    else if (lbc >= lca) out.push_back({d.distance, bound, v[1].idx, v[2].idx});
+    else out.push_back({d.distance, bound, v[2].idx, v[0].idx});
   }
-  std::sort(out.begin(), out.end(), [](const EdgeItem& x, const EdgeItem& y) { return x.length > y.length; });
+  std::sort(out.begin(), out.end(), [](const BeyondBound& x, const BeyondBound& y) { return x.distance > y.distance; });
   return out;
 }
 
 void Remesher::bound_distance(PassReport& r) {
-  if (!(options_.distance_bound > 0)) return;
+  if (!(options_.distance_bound > 0) && !(options_.relative_distance_bound > 0)) return;
   SurfaceMesh& mesh = mesh_.mesh();
+  // A guard: the bound fixes a few chords; a surface that asks for more
+  // than max_bound_split_share of the mesh in splits is left as it is, with
+  // the count of what stays beyond.
+  const double budget = options_.max_bound_split_share * mesh.n_vertices();
   for (int sweep = 0; sweep < options_.bound_sweeps; ++sweep) {
-    const std::vector<EdgeItem> beyond = edges_beyond_bound();
+    const std::vector<BeyondBound> beyond = edges_beyond_bound();
     r.beyond_bound = static_cast<int>(beyond.size());
     int splits = 0;
-    for (const EdgeItem& it : beyond) {
-      if (interrupted(r)) return;
+    for (const BeyondBound& it : beyond) {
+      if (interrupted(r) || r.bound_splits + splits >= budget) {
+        r.bound_splits += splits;
+        r.beyond_bound = static_cast<int>(edges_beyond_bound().size());
+        return;
+      }
       // An edge split earlier in the sweep is gone (its halves wait for the next one).
       const Corner c = find_edge_corner(mesh, Vertex(it.a), Vertex(it.b));
       if (!c.is_valid()) continue;
-      const SplitPlan plan = can_split_onto_input(mesh_, c, options_.bound_split_turn_deg, options_.distance_bound);
+      const SplitPlan plan = can_split_onto_input(mesh_, c, options_.bound_split_turn_deg, it.bound);
       if (plan.why != Rejection::None) {
         refuse(r, PassKind::Final, plan.why);
         continue;

@@ -84,13 +84,23 @@ struct RemeshOptions {
   // AdaptOptions::max_growth (set_growth_limits).
   int max_round_vertices = 0;
   int max_vertices = 0;
-  // The output's distance to the input (the chordal deviation --hausd as a
-  // bound): at the end of the final pass, the edges whose midpoint and the
-  // triangles whose centroid lie farther from T_G than distance_bound (the
-  // points bench/surfdist measures) are split onto the input
+  // The output's distance to the input: at the end of the final pass, the
+  // edges whose midpoint and the triangles whose centroid lie farther from
+  // T_G (the points bench/surfdist measures) than distance_bound (absolute:
+  // the chordal deviation --hausd as a bound; 0: none) or than
+  // relative_distance_bound times the size the metric asks for along the
+  // edge (its length over its metric length; for a triangle, the mean over
+  // its edges; 0: none), whichever is smaller, are split onto the input
   // (can_split_onto_input; a triangle at its longest edge), the farthest
-  // first, in at most bound_sweeps sweeps over the mesh. 0: none.
+  // first, in at most bound_sweeps sweeps over the mesh. The relative bound
+  // catches the chords that cut across what the size cannot follow (a
+  // rounded edge of radius below the size) when no hausd is given.
+  // The relative bound is measured beyond the smooth surface's own
+  // deviation from T_G at the point (InputBound's natural sagitta). At
+  // most max_bound_split_share x the vertices are split so.
   double distance_bound = 0;
+  double relative_distance_bound = 0.25;
+  double max_bound_split_share = 0.25;
   int bound_sweeps = 8;
   double bound_split_turn_deg = 80;
 };
@@ -247,9 +257,15 @@ class Remesher {
   // The end of the final pass with a distance bound (RemeshOptions::
   // distance_bound): the sweeps of splits onto the input.
   void bound_distance(PassReport& r);
+  // An edge to split for the bound: its point's distance to T_G and the
+  // bound there.
+  struct BeyondBound {
+    double distance, bound;
+    int a, b;
+  };
   // The edges to split for the bound, the farthest first: those whose
   // midpoint, and the longest of the triangles whose centroid, lies beyond it.
-  std::vector<EdgeItem> edges_beyond_bound();
+  std::vector<BeyondBound> edges_beyond_bound();
   // Swaps around v (its link edges) while they improve; returns the count.
   int local_swaps(Vertex v, PassReport& r);
   // Final pass: swaps of interior edges that bring the four vertices'
