@@ -6,8 +6,8 @@
 #include <numeric>
 
 #include "geometry/features.h"
+#include "geometry/parallel_chunks.h"
 #include "mesh/operators.h"
-#include "metric/parallel_chunks.h"
 #include "metric/surface_metric.h"
 
 namespace anisurf {
