@@ -1,7 +1,7 @@
 #include "metric/gradation.h"
 
 #include <cmath>
-#include <algorithm>
+#include <deque>
 
 namespace anisurf {
 
@@ -54,64 +54,30 @@ struct Adjacency {
   }
 };
 
-// The vertices whose metric is still to be spread to their neighbours, the
-// one with the finest metric (largest trace) first, each queued once at a
-// time (all of them at the start). Spreading the finest metrics first, as
-// Dijkstra's algorithm spreads the shortest distances, lets a coarse vertex
-// take its final metric in a few intersections instead of being refined
-// again by every wave that reaches it. Ties go to the smaller index, so the
-// order (and the result) depends on nothing else.
+// The vertices whose metric is still to be spread to their neighbours, first
+// in first out, each queued once at a time (all of them at the start).
 class WorkList {
  public:
-  explicit WorkList(const std::vector<SymTensor3>& metric) : metric_(metric), key_(metric.size()) {
-    const int n = static_cast<int>(metric.size());
-    heap_.reserve(n);
-    for (int v = 0; v < n; ++v) {
-      key_[v] = fineness(v);
-      heap_.push_back({key_[v], v});
-    }
-    std::make_heap(heap_.begin(), heap_.end(), later);
+  explicit WorkList(int n) : queued_(n, 1) {
+    for (int v = 0; v < n; ++v) fifo_.push_back(v);
   }
-  // Queues v (again) with the fineness of its current metric; an entry
-  // queued before with another fineness is stale and skipped by pop().
   void push(int v) {
-    key_[v] = fineness(v);
-    heap_.push_back({key_[v], v});
-    std::push_heap(heap_.begin(), heap_.end(), later);
+    if (queued_[v]) return;
+    queued_[v] = 1;
+    fifo_.push_back(v);
   }
   // The next vertex, or -1 when none is left.
   int pop() {
-    while (!heap_.empty()) {
-      std::pop_heap(heap_.begin(), heap_.end(), later);
-      const Entry e = heap_.back();
-      heap_.pop_back();
-      if (e.key != key_[e.vertex]) continue;  // stale
-      key_[e.vertex] = kNotQueued;
-      return e.vertex;
-    }
-    return -1;
+    if (fifo_.empty()) return -1;
+    const int v = fifo_.front();
+    fifo_.pop_front();
+    queued_[v] = 0;
+    return v;
   }
 
  private:
-  struct Entry {
-    double key;
-    int vertex;
-  };
-  static constexpr double kNotQueued = -1.0;  // below every fineness
-  // Whether a comes after b (the heap's top is the largest key, then the
-  // smallest index).
-  static bool later(const Entry& a, const Entry& b) {
-    return a.key != b.key ? a.key < b.key : a.vertex > b.vertex;
-  }
-  double fineness(int v) const {
-    const auto& m = metric_[v].m;
-    const double trace = m[0] + m[2] + m[5];
-    return std::isfinite(trace) ? trace : 0.0;  // vertices on no edge are not checked
-  }
-
-  const std::vector<SymTensor3>& metric_;
-  std::vector<double> key_;
-  std::vector<Entry> heap_;
+  std::deque<int> fifo_;
+  std::vector<char> queued_;
 };
 
 // The largest edge_gradation_excess over the edges. An edge direction whose
@@ -167,7 +133,7 @@ GradationReport gradate_metric(const std::vector<Vec3>& positions, const std::ve
   const double log_ratio = std::log(options.ratio);
   const double accept = (1.0 + options.tolerance) * (1.0 + options.tolerance);  // on eigenvalues of M_q^-1 P
   const long long cap = static_cast<long long>(options.max_updates_per_vertex) * std::max(n, 1);
-  WorkList work(metric);
+  WorkList work(n);
   std::vector<char> changed(n, 0);
   for (int p = work.pop(); p >= 0; p = work.pop()) {
     for (int k = adjacency.start[p]; k < adjacency.start[p + 1]; ++k) {
