@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "geometry/features.h"
+#include "geometry/parallel_chunks.h"
 
 namespace anisurf {
 
@@ -303,21 +304,26 @@ BezierSurface::BezierSurface(const SurfaceMesh& mesh, const SurfaceFrames& frame
   index_mesh(mesh);
   build_edges(mesh, frames, options);
   const int nt = mesh.triangle_capacity();
+  // The elevated patches (each from its own triangle's data: in parallel
+  // chunks), their stored points and, until the G1 corrections tell which
+  // triangles keep them, their derived points.
   stored_.assign(nt, {});
-  for (int t = 0; t < nt; ++t) {
-    if (macro_[t].vertex[0] < 0) continue;
-    const Patch P = elevated_patch(t);
-    for (int i = 0; i < kStoredPoints; ++i) stored_[t][i] = P[kStoredIdx[i]];
-  }
+  std::vector<std::array<Vec3, kDerivedPoints>> elevated_derived(static_cast<std::size_t>(nt));
+  run_chunks(nt, chunk_count(nt, 8192), [&](int, int begin, int end) {
+    for (int t = begin; t < end; ++t) {
+      if (macro_[t].vertex[0] < 0) continue;
+      const Patch P = elevated_patch(t);
+      for (int i = 0; i < kStoredPoints; ++i) stored_[t][i] = P[kStoredIdx[i]];
+      for (int i = 0; i < kDerivedPoints; ++i) elevated_derived[t][i] = P[kDerivedIdx[i]];
+    }
+  });
   const std::vector<char> corrected =
       options.g1_corrections ? correct_g1(mesh, frames, options) : std::vector<char>(nt, 0);
   // the triangles left as elevated keep their own centre and inner-edge points
   for (int t = 0; t < nt; ++t) {
     if (macro_[t].vertex[0] < 0 || corrected[t]) continue;
-    const Patch P = elevated_patch(t);
     macro_[t].derived = static_cast<int>(derived_.size());
-    derived_.emplace_back();
-    for (int i = 0; i < kDerivedPoints; ++i) derived_.back()[i] = P[kDerivedIdx[i]];
+    derived_.push_back(elevated_derived[t]);
   }
   derived_.shrink_to_fit();
 }

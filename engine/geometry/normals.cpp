@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "geometry/features.h"
+#include "geometry/parallel_chunks.h"
 
 namespace anisurf {
 
@@ -212,6 +213,43 @@ Vec3 plane_containing(const std::vector<Vec3>& ts, const Vec3& n) {
   return norm(m) > 0 ? normalized(m) : n;
 }
 
+// A sector's normal as step 2 of compute_frames estimates it, and where it
+// came from.
+struct SectorEstimate {
+  enum class Source : char { AngleWeighted, Fitted, File };
+  Vec3 n;
+  Source source = Source::AngleWeighted;
+};
+
+// Step 2 for one sector of v: the angle-weighted normal of its triangles;
+// the file's normal `file` (oriented like it) when given; else the local
+// fit's normal when it is within max_fit_deviation_deg of it.
+SectorEstimate estimate_sector_normal(const SurfaceMesh& mesh, Vertex v, const std::vector<Corner>& sector,
+                                      const Vec3* file, const NormalOptions& options, LocalFit& fitter) {
+  Vec3 n;
+  for (Corner c : sector) n += corner_angle(mesh, c) * normalized(mesh.triangle_normal(SurfaceMesh::triangle(c)));
+  n = normalized(n);
+  if (file) {
+    const Vec3 fn = normalized(*file);
+    return {dot(fn, n) >= 0 ? fn : -fn, SectorEstimate::Source::File};
+  }
+  if (options.method == NormalOptions::Method::LocalFit && norm(n) > 0) {
+    const std::vector<Vec3>& pts = fitter.gather(v, sector);
+    const int degree = (options.cubic_min_points > 0 && static_cast<int>(pts.size()) >= options.cubic_min_points) ? 3 : 2;
+    Vec3 fit = n;
+    for (int it = 0; it <= options.fit_iterations; ++it) {
+      const Vec3 next = LocalFit::fit(pts, fit, degree);
+      if (norm(next) == 0) {
+        fit = Vec3();
+        break;
+      }
+      fit = next;
+    }
+    if (norm(fit) > 0 && angle_of(fit, n) < options.max_fit_deviation_deg * kDeg) return {fit, SectorEstimate::Source::Fitted};
+  }
+  return {n, SectorEstimate::Source::AngleWeighted};
+}
+
 // The sparse matrix of the mirror system (compute_frames, step 3), its
 // structure built once: the unknowns of the sectors at both ends of every
 // edge of positive length are coupled (the entries the step's triplets would
@@ -351,48 +389,47 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
   auto file_normal = mesh.get_vertex_property<Vec3>("normal");
   auto has_file_normal = mesh.get_vertex_property<std::uint8_t>("has_normal");
   const bool file_normals = options.use_file_normals && file_normal && has_file_normal;
-  const double max_dev = options.max_fit_deviation_deg * kDeg;
-  LocalFit fitter(mesh);
   // sectors whose normal may still turn about a curve tangent
   std::vector<int> movable;
   std::vector<Vec3> axis, estimate;
   std::vector<std::vector<Corner>> members;
 
+  // The estimates (every one from its own sector: vertices in parallel
+  // chunks), then the sectors in vertex order.
+  const int nv = mesh.vertex_capacity();
+  const int chunks = chunk_count(nv, 4096);
+  std::vector<std::vector<SectorEstimate>> estimates(static_cast<std::size_t>(chunks));
+  run_chunks(nv, chunks, [&](int c, int begin, int end) {
+    LocalFit fitter(mesh);
+    std::vector<SectorEstimate>& out = estimates[static_cast<std::size_t>(c)];
+    for (int i = begin; i < end; ++i) {
+      const Vertex vh(i);
+      if (mesh.is_deleted(vh) || mesh.is_isolated(vh)) continue;
+      const auto sectors = smooth_sectors(mesh, vh);
+      const Vec3* file = file_normals && sectors.size() == 1 && has_file_normal[vh] && norm(file_normal[vh]) > 0
+                             ? &file_normal[vh]
+                             : nullptr;
+      for (const auto& sector : sectors) out.push_back(estimate_sector_normal(mesh, vh, sector, file, options, fitter));
+    }
+  });
+  std::size_t next_estimate = 0;
+  int estimate_chunk = 0;
   for (Vertex vh : mesh.vertices()) {
     if (mesh.is_isolated(vh)) continue;
     const auto sectors = smooth_sectors(mesh, vh);
     for (const auto& sector : sectors) {
-      // angle-weighted normal
-      Vec3 n;
-      for (Corner c : sector) n += corner_angle(mesh, c) * normalized(mesh.triangle_normal(SurfaceMesh::triangle(c)));
-      n = normalized(n);
-      bool done = false, file = false;
-      if (file_normals && sectors.size() == 1 && has_file_normal[vh] && norm(file_normal[vh]) > 0) {
-        Vec3 fn = normalized(file_normal[vh]);
-        n = dot(fn, n) >= 0 ? fn : -fn;
-        ++f.from_file;
-        done = true;
-        file = true;
+      while (next_estimate == estimates[static_cast<std::size_t>(estimate_chunk)].size()) {
+        ++estimate_chunk;
+        next_estimate = 0;
       }
-      if (!done && options.method == NormalOptions::Method::LocalFit && norm(n) > 0) {
-        const std::vector<Vec3>& pts = fitter.gather(vh, sector);
-        const int degree = (options.cubic_min_points > 0 && static_cast<int>(pts.size()) >= options.cubic_min_points) ? 3 : 2;
-        Vec3 fit = n;
-        for (int it = 0; it <= options.fit_iterations; ++it) {
-          const Vec3 next = LocalFit::fit(pts, fit, degree);
-          if (norm(next) == 0) {
-            fit = Vec3();
-            break;
-          }
-          fit = next;
-        }
-        if (norm(fit) > 0 && angle_of(fit, n) < max_dev) {
-          n = fit;
-          ++f.fitted;
-          done = true;
-        }
+      const SectorEstimate& estimated = estimates[static_cast<std::size_t>(estimate_chunk)][next_estimate++];
+      Vec3 n = estimated.n;
+      const bool file = estimated.source == SectorEstimate::Source::File;
+      switch (estimated.source) {
+        case SectorEstimate::Source::File: ++f.from_file; break;
+        case SectorEstimate::Source::Fitted: ++f.fitted; break;
+        case SectorEstimate::Source::AngleWeighted: ++f.angle_weighted; break;
       }
-      if (!done) ++f.angle_weighted;
       // on a regular curve vertex the plane contains the curve tangent; at
       // corners the tangents follow from the sector planes (step 4)
       Vec3 free_axis;

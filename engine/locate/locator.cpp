@@ -4,6 +4,7 @@
 #include <cassert>
 #include <deque>
 
+#include "geometry/parallel_chunks.h"
 #include "locate/closest_point.h"
 
 namespace anisurf {
@@ -121,22 +122,25 @@ void Locator::Data::build_triangles() {
   build_csr(m.vertex_capacity(), pairs, vt_first, vt);
   tree.build(boxes);
 
-  // Clearance of each vertex: the distance to the nearest triangle not incident to it.
-  vclear.assign(static_cast<std::size_t>(m.vertex_capacity()), 0.0);
-  for (Vertex vh : m.vertices()) {
-    const int v = vh.idx;
-    if (vt_first[v] == vt_first[v + 1]) continue;
-    const Vec3 x = m.position(vh);
-    double best = INFINITY;
-    tree.nearest([&](const Vec3& lo, const Vec3& hi) { return box_point_distance2(lo, hi, x); },
-                 [&](int t, double) -> double {
-                   const int* a = tv(t);
-                   if (a[0] == v || a[1] == v || a[2] == v) return INFINITY;
-                   return tri_d2(x, t);
-                 },
-                 best);
-    vclear[v] = with_margin(std::sqrt(best), scale);
-  }
+  // Clearance of each vertex: the distance to the nearest triangle not
+  // incident to it (vertices in parallel chunks: each one its own query).
+  const int nv = m.vertex_capacity();
+  vclear.assign(static_cast<std::size_t>(nv), 0.0);
+  run_chunks(nv, chunk_count(nv, 4096), [&](int, int begin, int end) {
+    for (int v = begin; v < end; ++v) {
+      if (vt_first[v] == vt_first[v + 1]) continue;
+      const Vec3 x = m.position(Vertex(v));
+      double best = INFINITY;
+      tree.nearest([&](const Vec3& lo, const Vec3& hi) { return box_point_distance2(lo, hi, x); },
+                   [&](int t, double) -> double {
+                     const int* a = tv(t);
+                     if (a[0] == v || a[1] == v || a[2] == v) return INFINITY;
+                     return tri_d2(x, t);
+                   },
+                   best);
+      vclear[v] = with_margin(std::sqrt(best), scale);
+    }
+  });
 }
 
 void Locator::Data::build_features() {

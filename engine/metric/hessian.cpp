@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "geometry/features.h"
+#include "geometry/parallel_chunks.h"
 #include "mesh/operators.h"
 #include "metric/surface_metric.h"
 
@@ -712,28 +713,38 @@ SymTensor3 absolute_tangent_metric(const SymTensor3& H, const Vec3& unit_normal,
   return tangent_metric(tangent_abs(H, unit_normal, floor), scale);
 }
 
-SectorCurvatures recover_sector_curvature(const SurfaceMesh& mesh, const HessianRecoveryOptions& options) {
-  SectorCurvatures out;
-  const int nv = mesh.vertex_capacity();
-  out.on_feature.assign(static_cast<std::size_t>(nv), 0);
-  for (Corner c : mesh.edges())
-    if (is_feature_edge(mesh, c)) out.on_feature[mesh.edge_from(c).idx] = out.on_feature[mesh.edge_to(c).idx] = 1;
-  out.first.assign(static_cast<std::size_t>(nv) + 1, 0);
-  out.normal.reserve(static_cast<std::size_t>(mesh.n_vertices()));
-  out.form.reserve(static_cast<std::size_t>(mesh.n_vertices()));
+namespace {
+
+// The sector fits of a range of vertex slots (recover_sector_curvature's
+// work on one chunk): per slot the index of its first sector in this chunk's
+// lists, and per sector its normal, form and whether it was fitted.
+struct SectorChunk {
+  std::vector<int> first;
+  std::vector<Vec3> normal;
+  std::vector<SymTensor3> form;
   std::vector<char> fitted;
-  fitted.reserve(static_cast<std::size_t>(mesh.n_vertices()));
-  const std::vector<char> near = within_rings_of_features(mesh, out.on_feature, 3);
+};
+
+// Fits every smooth sector of the vertices in [begin, end): the tangent
+// plane from the fitted heights (as fitted_normals), then the depth below it
+// (as recover_curvature), on the same points.
+SectorChunk fit_sectors(const SurfaceMesh& mesh, const HessianRecoveryOptions& options,
+                        const std::vector<char>& on_feature, const std::vector<char>& near, int begin, int end) {
+  SectorChunk out;
+  out.first.reserve(static_cast<std::size_t>(end - begin));
+  out.normal.reserve(static_cast<std::size_t>(end - begin));
+  out.form.reserve(static_cast<std::size_t>(end - begin));
+  out.fitted.reserve(static_cast<std::size_t>(end - begin));
   FitWorkspace work(mesh);
-  work.rings.set_features(&out.on_feature);
+  work.rings.set_features(&on_feature);
   const std::vector<std::vector<Corner>> whole_fan(1);  // one sector, the whole fan
   std::vector<std::vector<Corner>> split_sectors;
-  for (int i = 0; i < nv; ++i) {
-    out.first[i] = static_cast<int>(out.form.size());
+  for (int i = begin; i < end; ++i) {
+    out.first.push_back(static_cast<int>(out.form.size()));
     const Vertex v(i);
     if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
-    if (out.on_feature[i]) split_sectors = smooth_sectors(mesh, v);
-    const std::vector<std::vector<Corner>>& sectors = out.on_feature[i] ? split_sectors : whole_fan;
+    if (on_feature[i]) split_sectors = smooth_sectors(mesh, v);
+    const std::vector<std::vector<Corner>>& sectors = on_feature[i] ? split_sectors : whole_fan;
     const Vec3 p0 = mesh.position(v);
     for (const std::vector<Corner>& sector : sectors) {
       const bool whole = sector.empty();
@@ -748,8 +759,6 @@ SectorCurvatures recover_sector_curvature(const SurfaceMesh& mesh, const Hessian
       else
         for (Corner c : sector) n += mesh.triangle_normal(SurfaceMesh::triangle(c));
       n = normalized(n);
-      // The tangent plane from the fitted heights (as fitted_normals), then
-      // the depth below it (as recover_curvature), on the same points.
       Vec3 slope;
       SymTensor3 form;
       if (fit_at(mesh, v, work, n, options, [&](Vertex w) { return dot(mesh.position(w) - p0, n); }, slope, form) !=
@@ -764,10 +773,38 @@ SectorCurvatures recover_sector_curvature(const SurfaceMesh& mesh, const Hessian
                              largest_point_curvature(mesh, v, n, work.rings.collect(v, options.rings, min_points(options))));
       out.normal.push_back(n);
       out.form.push_back(ok ? form : SymTensor3());
-      fitted.push_back(ok);
+      out.fitted.push_back(ok);
     }
   }
-  out.first[nv] = static_cast<int>(out.form.size());
+  return out;
+}
+
+}  // namespace
+
+// The vertices are fitted in chunks on parallel threads (every fit depends on
+// its vertex alone), joined in vertex order.
+SectorCurvatures recover_sector_curvature(const SurfaceMesh& mesh, const HessianRecoveryOptions& options) {
+  SectorCurvatures out;
+  const int nv = mesh.vertex_capacity();
+  out.on_feature.assign(static_cast<std::size_t>(nv), 0);
+  for (Corner c : mesh.edges())
+    if (is_feature_edge(mesh, c)) out.on_feature[mesh.edge_from(c).idx] = out.on_feature[mesh.edge_to(c).idx] = 1;
+  const std::vector<char> near = within_rings_of_features(mesh, out.on_feature, 3);
+  const int chunks = chunk_count(nv, 4096);
+  std::vector<SectorChunk> parts(static_cast<std::size_t>(chunks));
+  run_chunks(nv, chunks, [&](int c, int begin, int end) {
+    parts[static_cast<std::size_t>(c)] = fit_sectors(mesh, options, out.on_feature, near, begin, end);
+  });
+  out.first.reserve(static_cast<std::size_t>(nv) + 1);
+  std::vector<char> fitted;
+  for (const SectorChunk& part : parts) {
+    const int offset = static_cast<int>(out.form.size());
+    for (int f : part.first) out.first.push_back(offset + f);
+    out.normal.insert(out.normal.end(), part.normal.begin(), part.normal.end());
+    out.form.insert(out.form.end(), part.form.begin(), part.form.end());
+    fitted.insert(fitted.end(), part.fitted.begin(), part.fitted.end());
+  }
+  out.first.push_back(static_cast<int>(out.form.size()));
   fill_unfitted_single_sectors(mesh, out, fitted);
   return out;
 }

@@ -75,15 +75,17 @@ struct SplitEdges {
   static constexpr PassKind kind = PassKind::Split;
   using Order = Longer;
   // Too long, or (section 5's fidelity) too far off the input surface.
-  static bool outside(AdaptedMesh& m, Vertex a, Vertex b, double length, const OperatorOptions& o) {
-    return length > o.lmax || edge_sags_off_input(m, a, b, o);
+  template <class Sags>
+  static bool outside(Sags&& sags, Vertex a, Vertex b, double length, const OperatorOptions& o) {
+    return length > o.lmax || sags(a, b);
   }
   static SplitPlan plan(AdaptedMesh& m, Corner c, const OperatorOptions& o) { return can_split(m, c, o); }
 };
 struct CollapseEdges {
   static constexpr PassKind kind = PassKind::Collapse;
   using Order = Shorter;
-  static bool outside(AdaptedMesh&, Vertex, Vertex, double length, const OperatorOptions& o) { return length < o.lmin; }
+  template <class Sags>
+  static bool outside(Sags&&, Vertex, Vertex, double length, const OperatorOptions& o) { return length < o.lmin; }
   static CollapsePlan plan(AdaptedMesh& m, Corner c, const OperatorOptions& o) { return can_collapse(m, c, o); }
 };
 
@@ -135,6 +137,25 @@ void Remesher::mark_all() {
   const std::size_t n = static_cast<std::size_t>(mesh_.mesh().vertex_capacity());
   swap_active_.assign(n, 1);
   smooth_active_.assign(n, 1);
+  flat_edges_.clear();
+}
+
+bool Remesher::edge_sags(Vertex a, Vertex b) {
+  const auto k = key(a, b);
+  const std::uint64_t edge = static_cast<std::uint64_t>(static_cast<std::uint32_t>(k[0])) << 32 |
+                             static_cast<std::uint32_t>(k[1]);
+  auto marked_at = [&](Vertex v) {
+    const std::size_t i = static_cast<std::size_t>(v.idx);
+    return i < marked_at_.size() ? marked_at_[i] : std::uint64_t{0};
+  };
+  const auto found = flat_edges_.find(edge);
+  if (found != flat_edges_.end()) {
+    if (marked_at(a) <= found->second && marked_at(b) <= found->second) return false;
+    flat_edges_.erase(found);
+  }
+  const bool sags = edge_sags_off_input(mesh_, a, b, options_.op);
+  if (!sags) flat_edges_.emplace(edge, marks_);
+  return sags;
 }
 
 bool Remesher::interrupted(PassReport& r) {
@@ -158,6 +179,9 @@ void Remesher::mark(Vertex v) {
   }
   swap_active_[i] = 1;
   smooth_active_[i] = 1;
+  if (i >= marked_at_.size())
+    marked_at_.resize(std::max<std::size_t>(i + 1, static_cast<std::size_t>(mesh_.mesh().vertex_capacity())), 0);
+  marked_at_[i] = ++marks_;
 }
 
 void Remesher::record_touched(PassReport& r, Vertex v) {
@@ -243,10 +267,11 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
   SurfaceMesh& mesh = mesh_.mesh();
   const OperatorOptions& o = options_.op;
   EdgeHeap<typename Edges::Order> heap(heap_);
+  auto sags = [this](Vertex a, Vertex b) { return edge_sags(a, b); };
   for (Corner c : mesh.edges()) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     const double l = mesh_.length(a, b);
-    if (Edges::outside(mesh_, a, b, l, o)) heap.push({l, a.idx, b.idx});
+    if (Edges::outside(sags, a, b, l, o)) heap.push({l, a.idx, b.idx});
   }
   // Splits only add triangles, collapses only remove them: the budget
   // follows a refinement and keeps its start through a coarsening.
@@ -261,7 +286,7 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
     const EdgeItem it = heap.pop();
     const Vertex a(it.a), b(it.b);
     const Corner c = find_edge_corner(mesh, a, b);
-    if (!c.is_valid() || !Edges::outside(mesh_, a, b, mesh_.length(a, b), o)) continue;
+    if (!c.is_valid() || !Edges::outside(sags, a, b, mesh_.length(a, b), o)) continue;
     if (in_cache(a, b, Edges::kind)) {  // Remark 5
       refuse(r, Edges::kind, Rejection::Cache);
       continue;
@@ -276,7 +301,7 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
     if (!follow_new_edges || !v.is_valid()) continue;
     for (Vertex w : mesh.ring_vertices(v)) {
       const double l = mesh_.length(v, w);
-      if (Edges::outside(mesh_, v, w, l, o)) heap.push({l, v.idx, w.idx});
+      if (Edges::outside(sags, v, w, l, o)) heap.push({l, v.idx, w.idx});
     }
   }
   return changes;

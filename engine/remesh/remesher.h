@@ -17,6 +17,7 @@
 #include <deque>
 #include <functional>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "metric/mesh_quality.h"
@@ -282,6 +283,10 @@ class Remesher {
   void record_touched(PassReport& r, Vertex v);
   void mark(Vertex v);
   void mark_all();
+  // edge_sags_off_input(a, b), remembered for the edges found not to sag:
+  // such an edge is not measured again until one of its ends is marked
+  // (mark, mark_all: its place, metric or neighbourhood changed).
+  bool edge_sags(Vertex a, Vertex b);
   // Reserves the mesh arrays for the size the target metric asks for.
   void reserve_for_metric();
 
@@ -297,6 +302,9 @@ class Remesher {
   long long interrupt_polls_ = 0;
   std::vector<EdgeItem> heap_;  // split / collapse passes: the heap's storage
   std::vector<std::uint8_t> touched_mark_;  // per vertex slot: in the pass's touched list
+  std::uint64_t marks_ = 0;                 // marks so far
+  std::vector<std::uint64_t> marked_at_;    // per vertex slot: marks_ at its last mark
+  std::unordered_map<std::uint64_t, std::uint64_t> flat_edges_;  // edge key -> marks_ when found not to sag
 };
 
 }  // namespace anisurf::remesh
