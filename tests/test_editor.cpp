@@ -656,7 +656,7 @@ TEST_CASE("editor: color distance in a script, headless: the legend and the colo
   CHECK(slurp(dir / "stderr.txt").find("bad.anisurf:3: color distance: the distance colours the mesh; hide the G1 surface first (bezier off)") !=
         std::string::npos);
   CHECK(run_binary("", "--help-script", dir) == 0);
-  CHECK(slurp(dir / "stdout.txt").find("color size|aniso|length|quality|ref|deviation|distance|none") != std::string::npos);
+  CHECK(slurp(dir / "stdout.txt").find("color size|aniso|length|quality|ref|deviation|distance|fallback|none") != std::string::npos);
 }
 
 #endif
