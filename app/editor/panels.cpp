@@ -401,8 +401,8 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
   }
   // The passes side by side (click a row to show that pass).
   if (n > 1 && ImGui::TreeNodeEx("passes", ImGuiTreeNodeFlags_DefaultOpen)) {
-    const ImGuiTableFlags tf = ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollY |
-                               ImGuiTableFlags_SizingStretchProp;
+    const ImGuiTableFlags tf = ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollX |
+                               ImGuiTableFlags_ScrollY | ImGuiTableFlags_SizingFixedFit;
     if (ImGui::BeginTable("##passes", 7, tf, ImVec2(std::min(360.0f, ImGui::GetContentRegionAvail().x), 160))) {
       ImGui::TableSetupScrollFreeze(0, 1);
       for (const char* h : {"#", "pass", "changes", "V", "in band", "q min", "pulled"}) ImGui::TableSetupColumn(h);
@@ -435,7 +435,7 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
   const auto& snap = tl[static_cast<std::size_t>(std::clamp(shown, 0, n - 1))];
   if (!snap->has_report) {
     ImGui::TextDisabled("initial mesh: %d vertices, %d triangles", snap->mesh.n_vertices(), snap->mesh.n_triangles());
-    ImGui::TextDisabled("its vertices are the input's (the passes place the vertices)");
+    ImGui::TextDisabled("its vertices are the input's: no placements yet");
     return;
   }
   const remesh::PassReport& r = snap->report;
