@@ -1,18 +1,20 @@
 #version 330 core
 // Surface shading: base colour or a quantity (vertex / triangle / edge
-// scalar through a colormap, triangle colours), flat or smooth normals, a
-// two-sided headlight, the barycentric wireframe and highlighted triangles.
+// scalar through a colormap, triangle colours, corner colours), flat or
+// smooth normals, a two-sided headlight, the barycentric wireframe and
+// highlighted triangles.
 in vec3 v_view_position;
 in vec3 v_view_normal;
 in float v_value;
 noperspective in vec3 v_barycentric;
 
-uniform int u_color_mode;            // 0 base, 1 vertex, 2 triangle, 3 edge scalar, 4 triangle colours
+uniform int u_color_mode;            // 0 base, 1 vertex, 2 triangle, 3 edge scalar, 4 triangle colours,
+                                     // 5 corner colours
 uniform vec3 u_base_color;
 uniform sampler2D u_colormap;        // 256 x 1
 uniform vec2 u_range;                // mapped values at the colormap ends
 uniform samplerBuffer u_triangle_values;   // modes 2 (1 per triangle) and 3 (3 per triangle)
-uniform samplerBuffer u_triangle_colors;   // mode 4, RGBA8
+uniform samplerBuffer u_triangle_colors;   // RGBA8: mode 4 (1 per triangle), mode 5 (3 per triangle)
 uniform usamplerBuffer u_triangle_flags;   // bit 0: highlighted
 uniform bool u_has_flags;
 uniform vec3 u_highlight_color;
@@ -48,6 +50,11 @@ void main() {
     base = scalar_color(texelFetch(u_triangle_values, 3 * gl_PrimitiveID + k).r);
   } else if (u_color_mode == 4) {
     base = texelFetch(u_triangle_colors, gl_PrimitiveID).rgb;
+  } else if (u_color_mode == 5) {
+    // The colour of the nearest corner: the largest barycentric coordinate.
+    vec3 b = v_barycentric;
+    int k = (b.x >= b.y && b.x >= b.z) ? 0 : (b.y >= b.z ? 1 : 2);
+    base = texelFetch(u_triangle_colors, 3 * gl_PrimitiveID + k).rgb;
   }
   bool highlighted = u_has_flags && (texelFetch(u_triangle_flags, gl_PrimitiveID).r & 1u) != 0u;
   if (highlighted) base = u_highlight_color;

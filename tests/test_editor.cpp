@@ -23,6 +23,7 @@
 #include "io/mesh_io.h"
 #include "locate/surface_distance.h"
 #include "remesh/adapt.h"
+#include "remesh/adapted_mesh.h"
 #include "render/bezier_structure.h"
 #include "render/image.h"
 #include "render/mesh_structure.h"
@@ -658,7 +659,131 @@ TEST_CASE("editor: color distance in a script, headless: the legend and the colo
   CHECK(slurp(dir / "stderr.txt").find("bad.anisurf:3: color distance: the distance colours the mesh; hide the G1 surface first (bezier off)") !=
         std::string::npos);
   CHECK(run_binary("", "--help-script", dir) == 0);
-  CHECK(slurp(dir / "stdout.txt").find("color size|aniso|length|quality|ref|deviation|distance|none") != std::string::npos);
+  CHECK(slurp(dir / "stdout.txt").find("color size|aniso|length|quality|ref|deviation|distance|fallback|none") != std::string::npos);
+}
+
+TEST_CASE("editor: the fallback colours: the vertices pulled to the input, counted from T_1's placements") {
+  EditorSession s;
+  s.open(demo_mesh(), demo_sol());
+  ViewState v;
+  v.color = "fallback";
+  EditorView ev;
+  render::Scene scene;
+  auto shown = [&]() -> const render::VertexCategories* {
+    ev.update(s, v, scene, 1.6f, 0, 0);
+    for (const auto& st : scene.surfaces)
+      if (st.name == "mesh") return st.active_categories();
+    return nullptr;
+  };
+  // The initial state is the input: no placements, said so, drawn in one colour.
+  const auto t0 = s.display().snapshot;
+  CHECK(!t0->placement.known);
+  CHECK(!count_placements(t0->mesh).known);
+  CHECK(t0->placement.vertices == t0->mesh.n_vertices());
+  const render::VertexCategories* c = shown();
+  REQUIRE(c);
+  REQUIRE(c->categories.size() == 1);
+  CHECK(c->categories[0].label == "input vertices: " + std::to_string(t0->mesh.n_vertices()));
+  CHECK(c->note.find("the initial mesh") != std::string::npos);
+  for (int x : c->values) CHECK(x == 0);
+  // On the coarse demo sphere the G1 surface bulges beyond the input bound:
+  // the fallback pulls the new vertices back towards the input.
+  s.run();
+  s.wait();
+  const auto t1 = s.display().snapshot;
+  REQUIRE(t1->has_report);
+  const PlacementCounts& pc = t1->placement;
+  REQUIRE(pc.known);
+  // The counts agree with the engine's property of the snapshot's mesh.
+  const auto state = t1->mesh.get_vertex_property<std::uint8_t>(remesh::kPlacementProperty);
+  REQUIRE(state);
+  int n[3] = {0, 0, 0};
+  for (Vertex x : t1->mesh.vertices()) {
+    REQUIRE(state[x] <= 2);
+    ++n[state[x]];
+  }
+  CHECK(pc.off_surface == n[0]);
+  CHECK(pc.on_surface == n[1]);
+  CHECK(pc.pulled == n[2]);
+  CHECK(pc.vertices == t1->mesh.n_vertices());
+  CHECK(pc.on_surface + pc.pulled + pc.off_surface == pc.vertices);
+  CHECK(pc.pulled > 0);
+  CHECK(pc.percent(VertexPlacement::Pulled) == doctest::Approx(100.0 * pc.pulled / pc.vertices));
+  MESSAGE("demo adapted: " << pc.pulled << " vertices pulled to the input, " << pc.off_surface << " off the surface, "
+                           << pc.on_surface << " on the G1 surface, of " << pc.vertices);
+  // The colours: each drawn vertex in its placement's category, the counts in the legend.
+  c = shown();
+  REQUIRE(c);
+  REQUIRE(c->categories.size() == 3);
+  char pulled_row[96];
+  std::snprintf(pulled_row, sizeof pulled_row, "pulled to the input: %d vertices (%.1f%%)", pc.pulled,
+                pc.percent(VertexPlacement::Pulled));
+  CHECK(c->categories[1].label == pulled_row);
+  CHECK(c->categories[0].label.rfind("on the G1 surface: " + std::to_string(pc.on_surface) + " ", 0) == 0);
+  CHECK(c->categories[2].label.rfind("off the surface: " + std::to_string(pc.off_surface) + " ", 0) == 0);
+  int drawn[3] = {0, 0, 0};
+  REQUIRE(c->values.size() == static_cast<std::size_t>(t1->mesh.n_vertices()));
+  for (int x : c->values) {
+    REQUIRE((x >= 0 && x <= 2));
+    ++drawn[x];
+  }
+  CHECK(drawn[0] == pc.on_surface);
+  CHECK(drawn[1] == pc.pulled);
+  CHECK(drawn[2] == pc.off_surface);
+  // Every pass records its placements; the vertex under the mouse tells its own.
+  for (const auto& snap : s.timeline()) CHECK(snap->placement.known == snap->has_report);
+  for (Vertex x : t1->mesh.vertices())
+    CHECK(vertex_placement(t1->mesh, x) == (state[x] == 2 ? VertexPlacement::Pulled
+                                            : state[x] == 0 ? VertexPlacement::OffSurface
+                                                            : VertexPlacement::OnSurface));
+  // A cycle makes T_1 the new T_0: its initial state has no placements (not the last run's).
+  s.next_cycle();
+  CHECK(!s.display().snapshot->placement.known);
+  CHECK(!s.input().get_vertex_property<std::uint8_t>(remesh::kPlacementProperty));
+  c = shown();
+  REQUIRE(c);
+  CHECK(c->categories.size() == 1);
+}
+
+TEST_CASE("editor: color fallback in a script, headless: the pulled vertices in red, the legend's counts") {
+  const auto dir = test::temp_dir("editor_fallback_script");
+  {
+    std::ofstream f(dir / "fallback.anisurf");
+    f << "open " << demo_mesh() << " " << demo_sol() << "\nwire off\ntouched off\ncolor fallback\nscreenshot "
+      << (dir / "initial.png").string() << "\nrun\ncolor size\nscreenshot " << (dir / "size.png").string()
+      << "\ncolor fallback\nscreenshot " << (dir / "fallback.png").string() << "\n";
+  }
+  const int code = run_binary("env -u DISPLAY", "--script " + (dir / "fallback.anisurf").string() + " --headless --size 1280x800", dir);
+  INFO(slurp(dir / "stderr.txt"));
+  REQUIRE(code == 0);
+  const render::Image initial = render::read_png((dir / "initial.png").string()),
+                      size = render::read_png((dir / "size.png").string()),
+                      fallback = render::read_png((dir / "fallback.png").string());
+  // Pixels of the pulled colour (0.88, 0.12, 0.10), lit, in the view (right of
+  // the panel, left of the legend's swatches).
+  auto red = [](const render::Image& img) {
+    int count = 0;
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 400; x < img.width - 360; ++x) {
+        const auto* p = img.pixel(x, y);
+        count += p[0] > 120 && p[1] < 0.45 * p[0] && p[2] < 0.45 * p[0];
+      }
+    return count;
+  };
+  const int r_initial = red(initial), r_size = red(size), r_fallback = red(fallback);
+  MESSAGE("red pixels: initial " << r_initial << ", size colours " << r_size << ", fallback colours " << r_fallback);
+  CHECK(r_initial < 50);  // no placements before a pass: grey
+  CHECK(r_size < 50);
+  CHECK(r_fallback > 20000);
+  CHECK(diff(size, fallback, 400).count > 5000);
+  // The G1 surface hides the mesh the placements colour: refused with a hint.
+  {
+    std::ofstream f(dir / "bad.anisurf");
+    f << "open " << demo_mesh() << "\nbezier 4\ncolor fallback\n";
+  }
+  CHECK(run_binary("env -u DISPLAY", "--script " + (dir / "bad.anisurf").string() + " --headless", dir) == 1);
+  CHECK(slurp(dir / "stderr.txt").find("bad.anisurf:3: color fallback: the placements colour the mesh; hide the G1 surface first (bezier off)") !=
+        std::string::npos);
 }
 
 #endif

@@ -119,6 +119,7 @@ void Adaptation::work(std::size_t from, int max_passes) {
       snap->metric.resize(static_cast<std::size_t>(m.vertex_capacity()));
       for (int v = 0; v < m.vertex_capacity(); ++v)
         snap->metric[v] = m.is_deleted(Vertex(v)) ? SymTensor3::identity(1.0) : adapted_->metric(Vertex(v));
+      snap->placement = count_placements(snap->mesh);
       snap->has_report = true;
       snap->schedule = remesher_->schedule();
       snap->label = (r.round > 0 ? std::to_string(r.round) + " " : std::string()) +

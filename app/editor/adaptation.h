@@ -13,6 +13,7 @@
 #include <thread>
 #include <vector>
 
+#include "editor/analysis.h"
 #include "mesh/surface_mesh.h"
 #include "metric/metric_field.h"
 #include "remesh/adapt.h"
@@ -26,12 +27,14 @@ using AdaptSettings = remesh::AdaptOptions;
 
 using remesh::Schedule;
 
-// One state of the timeline: the mesh (T_1), the metric per vertex slot,
-// the pass that produced it (absent for the initial state) and the schedule
-// after it.
+// One state of the timeline: the mesh (T_1, with the engine's placement of
+// every vertex: remesh::kPlacementProperty), the metric per vertex slot, the
+// placements counted, the pass that produced it (absent for the initial
+// state) and the schedule after it.
 struct Snapshot {
   SurfaceMesh mesh;
   MetricField metric;
+  PlacementCounts placement;  // count_placements(mesh); not known for the initial state
   bool has_report = false;
   remesh::PassReport report;
   Schedule schedule;

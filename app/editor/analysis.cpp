@@ -7,8 +7,62 @@
 #include "core/error.h"
 #include "metric/length.h"
 #include "metric/quality.h"
+#include "remesh/adapted_mesh.h"
 
 namespace anisurf::editor {
+
+const char* placement_name(VertexPlacement p) {
+  switch (p) {
+    case VertexPlacement::OnSurface: return "on the G1 surface";
+    case VertexPlacement::Pulled: return "pulled to the input";
+    case VertexPlacement::OffSurface: return "off the surface";
+    case VertexPlacement::None: break;
+  }
+  return "no placement";
+}
+
+int PlacementCounts::count(VertexPlacement p) const {
+  switch (p) {
+    case VertexPlacement::OnSurface: return on_surface;
+    case VertexPlacement::Pulled: return pulled;
+    case VertexPlacement::OffSurface: return off_surface;
+    case VertexPlacement::None: break;
+  }
+  return known ? 0 : vertices;
+}
+
+double PlacementCounts::percent(VertexPlacement p) const {
+  return vertices > 0 ? 100.0 * count(p) / vertices : 0.0;
+}
+
+namespace {
+VertexPlacement placement_of(std::uint8_t state) {
+  return state == 0 ? VertexPlacement::OffSurface : state == 2 ? VertexPlacement::Pulled : VertexPlacement::OnSurface;
+}
+}  // namespace
+
+VertexPlacement vertex_placement(const SurfaceMesh& mesh, Vertex v) {
+  const auto state = mesh.get_vertex_property<std::uint8_t>(remesh::kPlacementProperty);
+  if (!state || v.idx < 0 || v.idx >= mesh.vertex_capacity() || mesh.is_deleted(v)) return VertexPlacement::None;
+  return placement_of(state[v]);
+}
+
+PlacementCounts count_placements(const SurfaceMesh& mesh, std::vector<VertexPlacement>* per_slot) {
+  PlacementCounts c;
+  const auto state = mesh.get_vertex_property<std::uint8_t>(remesh::kPlacementProperty);
+  c.known = static_cast<bool>(state);
+  c.vertices = mesh.n_vertices();
+  if (per_slot) per_slot->assign(static_cast<std::size_t>(mesh.vertex_capacity()), VertexPlacement::None);
+  if (!c.known) return c;
+  for (Vertex v : mesh.vertices()) {
+    const VertexPlacement p = placement_of(state[v]);
+    if (p == VertexPlacement::Pulled) ++c.pulled;
+    else if (p == VertexPlacement::OffSurface) ++c.off_surface;
+    else ++c.on_surface;
+    if (per_slot) (*per_slot)[static_cast<std::size_t>(v.idx)] = p;
+  }
+  return c;
+}
 
 const char* bin_kind_name(BinKind k) { return k == BinKind::Length ? "length" : "quality"; }
 

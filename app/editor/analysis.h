@@ -1,8 +1,11 @@
 // Analysis of a mesh against its metric for the Analysis panel: edge lengths
 // in the metric (bins of metric/mesh_quality.h's kLengthBins), triangle
-// qualities (eq. 17, ten bins over [0, 1]), and the elements of one bin.
+// qualities (eq. 17, ten bins over [0, 1]), and the elements of one bin; how
+// the adaptation placed the vertices (on the G1 surface, pulled to the
+// input, off the surface).
 #pragma once
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -12,6 +15,33 @@
 #include "metric/metric_field.h"
 
 namespace anisurf::editor {
+
+// How the adaptation placed each vertex of T_1 (the engine's
+// remesh::kPlacementProperty): on the smooth G1 surface; pulled back towards
+// the polyhedral input T_G where the G1 surface strayed farther than the
+// input bound (the fallback, remesh::InputBound); or left off the surface (a
+// split at the straight midpoint, or the final pass's hausd split placed
+// part of the way to T_G). A mesh without the property (the input, the
+// initial state) has no placements.
+enum class VertexPlacement : std::int8_t { None = -1, OffSurface = 0, OnSurface = 1, Pulled = 2 };
+// "on the G1 surface", "pulled to the input", "off the surface", "no placement".
+const char* placement_name(VertexPlacement p);
+
+struct PlacementCounts {
+  bool known = false;  // the mesh carries the placements (a pass produced it)
+  int on_surface = 0, pulled = 0, off_surface = 0;
+  int vertices = 0;    // live vertices (all of them when !known)
+  int count(VertexPlacement p) const;
+  // count(p) as a percentage of the vertices (0 without vertices).
+  double percent(VertexPlacement p) const;
+};
+
+// The placement of v (None without the property).
+VertexPlacement vertex_placement(const SurfaceMesh& mesh, Vertex v);
+// Counts over the live vertices; `per_slot` (if given) receives the
+// placement of every vertex slot (None for deleted slots, or everywhere
+// without the property).
+PlacementCounts count_placements(const SurfaceMesh& mesh, std::vector<VertexPlacement>* per_slot = nullptr);
 
 enum class BinKind { Length, Quality };
 inline constexpr int kQualityBins = 10;

@@ -15,6 +15,7 @@ namespace {
 
 const char* kMeshName = "mesh";
 const char* kBezierName = "G1 surface";
+const char* kPlacementName = "vertex placement";
 
 std::string quantity_of(const std::string& color) {
   namespace q = render::quantity;
@@ -25,7 +26,60 @@ std::string quantity_of(const std::string& color) {
   if (color == "ref") return q::kReference;
   if (color == "deviation") return q::kDeviation;
   if (color == "distance") return q::kDistance;
+  if (color == "fallback") return kPlacementName;
   return "";
+}
+
+// The colours of the placements: the G1 surface neutral (the surface's own
+// grey), the input fallback red, off the surface green.
+glm::vec3 placement_color(VertexPlacement p) {
+  switch (p) {
+    case VertexPlacement::Pulled: return {0.88f, 0.12f, 0.10f};
+    case VertexPlacement::OffSurface: return {0.10f, 0.62f, 0.25f};
+    case VertexPlacement::OnSurface:
+    case VertexPlacement::None: break;
+  }
+  return {0.80f, 0.81f, 0.84f};
+}
+
+// "pulled to the input: 312 vertices (2.1%)".
+std::string placement_row(const PlacementCounts& c, VertexPlacement p) {
+  char buf[96];
+  const int n = c.count(p);
+  std::snprintf(buf, sizeof buf, "%s: %d %s (%.1f%%)", placement_name(p), n, n == 1 ? "vertex" : "vertices", c.percent(p));
+  return buf;
+}
+
+// The "fallback" colours of a state: each vertex by its placement (the
+// engine's, recorded in the snapshot's mesh), the counts in the legend. A
+// state without placements (the initial mesh) is drawn neutral, and the
+// legend says why.
+render::VertexCategories placement_categories(const render::MeshStructure& ms, const Snapshot& snap) {
+  render::VertexCategories q;
+  q.name = kPlacementName;
+  std::vector<VertexPlacement> per_slot;
+  count_placements(snap.mesh, &per_slot);
+  const PlacementCounts& c = snap.placement;
+  q.values.assign(ms.structure.geometry.positions.size(), 0);
+  if (!c.known) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "input vertices: %d", c.vertices);
+    q.categories.push_back({buf, placement_color(VertexPlacement::None)});
+    q.note = snap.has_report ? "this state records no placements"
+                             : "the initial mesh: its vertices are the input's; the passes place the vertices they make or move.";
+    return q;
+  }
+  const VertexPlacement order[] = {VertexPlacement::OnSurface, VertexPlacement::Pulled, VertexPlacement::OffSurface};
+  for (VertexPlacement p : order) q.categories.push_back({placement_row(c, p), placement_color(p)});
+  for (std::size_t v = 0; v < per_slot.size() && v < ms.draw_vertex.size(); ++v) {
+    const int g = ms.draw_vertex[v];
+    if (g < 0 || static_cast<std::size_t>(g) >= q.values.size()) continue;
+    const VertexPlacement p = per_slot[v];
+    q.values[static_cast<std::size_t>(g)] = p == VertexPlacement::Pulled ? 1 : p == VertexPlacement::OffSurface ? 2 : 0;
+  }
+  q.note = "pulled: the G1 surface strayed beyond the input bound there, the vertex was pulled back towards the "
+           "input. Off: a split at the straight midpoint, or a hausd split part of the way to the input.";
+  return q;
 }
 
 glm::vec3 to_glm(const Vec3& p) { return {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)}; }
@@ -122,6 +176,7 @@ void EditorView::rebuild_mesh(const ViewState& view, const EditorSession& sessio
   kept_for_ = session.opened();
   kept_initial_ = !shown_->has_report;
   kept_settings_ = session.settings();
+  mesh_.structure.categories.push_back(placement_categories(mesh_, *shown_));
   mesh_.structure.version = ++counter_;
   // The vertices the displayed pass created, kept or moved.
   if (shown_->has_report && !shown_->report.touched.empty()) {

@@ -304,6 +304,35 @@ void brush_panel(EditorSession& s, ViewState& v, PanelState& p) {
 }
 
 // --- Adaptation -----------------------------------------------------------------
+// Where the vertices of the shown pass lie: pulled back to the input (the
+// fallback where the G1 surface strayed beyond the input bound) and off the
+// surface, with a button for the colours that show where.
+void placement_lines(const PlacementCounts& c, ViewState& v) {
+  if (!c.known) {
+    ImGui::TextDisabled("this state records no vertex placements");
+    return;
+  }
+  const ImVec4 red(0.80f, 0.10f, 0.08f, 1), green(0.08f, 0.50f, 0.20f, 1);
+  ImGui::TextColored(c.pulled > 0 ? red : ImGui::GetStyle().Colors[ImGuiCol_TextDisabled],
+                     "pulled to the input: %d vertices (%.1f%%)", c.pulled, c.percent(VertexPlacement::Pulled));
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("Where the G1 surface strayed farther from the input than the input bound allows,\n"
+                      "the vertex was pulled back towards the polyhedral input (the fallback).");
+  if (v.color != "fallback") {
+    ImGui::SameLine();
+    if (ImGui::SmallButton("colour by it")) {
+      v.color = "fallback";
+      v.bezier = 0;  // the colours are on the mesh
+    }
+  }
+  ImGui::TextColored(c.off_surface > 0 ? green : ImGui::GetStyle().Colors[ImGuiCol_TextDisabled],
+                     "off the surface: %d vertices (%.1f%%)", c.off_surface, c.percent(VertexPlacement::OffSurface));
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("Splits at the straight midpoint (projection refused), or the final pass's\n"
+                      "hausd splits placed part of the way to the input.");
+  ImGui::TextDisabled("on the G1 surface: %d vertices (%.1f%%)", c.on_surface, c.percent(VertexPlacement::OnSurface));
+}
+
 void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
   if (!ImGui::CollapsingHeader("Adaptation", ImGuiTreeNodeFlags_DefaultOpen)) return;
   const bool running = s.running();
@@ -372,11 +401,11 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
   }
   // The passes side by side (click a row to show that pass).
   if (n > 1 && ImGui::TreeNodeEx("passes", ImGuiTreeNodeFlags_DefaultOpen)) {
-    const ImGuiTableFlags tf = ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollY |
-                               ImGuiTableFlags_SizingFixedFit;
-    if (ImGui::BeginTable("##passes", 6, tf, ImVec2(340, 160))) {
+    const ImGuiTableFlags tf = ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollX |
+                               ImGuiTableFlags_ScrollY | ImGuiTableFlags_SizingFixedFit;
+    if (ImGui::BeginTable("##passes", 7, tf, ImVec2(std::min(360.0f, ImGui::GetContentRegionAvail().x), 160))) {
       ImGui::TableSetupScrollFreeze(0, 1);
-      for (const char* h : {"#", "pass", "changes", "V", "in band", "q min"}) ImGui::TableSetupColumn(h);
+      for (const char* h : {"#", "pass", "changes", "V", "in band", "q min", "pulled"}) ImGui::TableSetupColumn(h);
       ImGui::TableHeadersRow();
       for (int i = 0; i < n; ++i) {
         const auto& sn = tl[static_cast<std::size_t>(i)];
@@ -395,6 +424,8 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
         if (sn->has_report) ImGui::Text("%.1f%%", 100 * sn->report.in_band_share);
         ImGui::TableNextColumn();
         if (sn->has_report) ImGui::Text("%.3f", sn->report.q_min);
+        ImGui::TableNextColumn();  // vertices pulled to the input (the fallback)
+        if (sn->placement.known) ImGui::Text("%d", sn->placement.pulled);
       }
       ImGui::EndTable();
     }
@@ -404,6 +435,7 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
   const auto& snap = tl[static_cast<std::size_t>(std::clamp(shown, 0, n - 1))];
   if (!snap->has_report) {
     ImGui::TextDisabled("initial mesh: %d vertices, %d triangles", snap->mesh.n_vertices(), snap->mesh.n_triangles());
+    ImGui::TextDisabled("its vertices are the input's: no placements yet");
     return;
   }
   const remesh::PassReport& r = snap->report;
@@ -412,6 +444,7 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
               r.removed_vertices);
   if (r.bound_splits > 0 || r.beyond_bound > 0)
     ImGui::Text("hausd bound: %d splits onto the input, %d points still beyond", r.bound_splits, r.beyond_bound);
+  placement_lines(snap->placement, v);
   std::string rej;
   for (int i = 1; i < remesh::kRejectionCount; ++i)
     if (r.rejected[i])
@@ -513,7 +546,7 @@ void bezier_panel(ViewState& v) {
   bool show = v.bezier > 0;
   if (ImGui::Checkbox("show the G1 Bezier surface", &show)) {
     v.bezier = show ? 4 : 0;
-    if (show && v.color == "distance") v.color = "size";  // the G1 surface hides the mesh it colours
+    if (show && colors_mesh_only(v.color)) v.color = "size";  // the G1 surface hides the mesh they colour
   }
   if (show) {
     ImGui::SetNextItemWidth(160);
@@ -535,7 +568,7 @@ void display_panel(ViewState& v, render::Scene& scene) {
   ImGui::SetNextItemWidth(160);
   if (ImGui::Combo("colour", &current, kColorModes, n)) {
     if (std::string(kColorModes[current]) == "deviation" && v.bezier == 0) v.bezier = 4;
-    if (std::string(kColorModes[current]) == "distance") v.bezier = 0;  // it colours the mesh
+    if (colors_mesh_only(kColorModes[current])) v.bezier = 0;  // they colour the mesh
     v.color = kColorModes[current];
   }
   ImGui::Checkbox("glyphs (G)", &v.glyphs);
@@ -603,6 +636,8 @@ void hover_tooltip(EditorSession& s, EditorView* view, PanelState& p) {
   if (const auto dist = s.last_distance(&current); dist && current && V.idx < static_cast<int>(dist->vertex.size()))
     ImGui::Text("distance to the input %.4g (%.3g%% of the diagonal)", dist->vertex[static_cast<std::size_t>(V.idx)],
                 dist->percent(dist->vertex[static_cast<std::size_t>(V.idx)]));
+  if (const VertexPlacement pl = vertex_placement(m, V); pl != VertexPlacement::None)
+    ImGui::Text("placed %s", placement_name(pl));
   for (int i = 0; i < 3; ++i)
     ImGui::Text("size %.4g along (%.3f, %.3f, %.3f)", sd.sizes[i], sd.directions[i].x, sd.directions[i].y,
                 sd.directions[i].z);

@@ -295,10 +295,12 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
   } else if (cmd == "color") {
     arity(l, 1, 1, "color MODE");
     if (!is_color_mode(l.words[1]))
-      throw LineError{"color: expects size|aniso|length|quality|ref|deviation|distance|none, got '" + l.words[1] + "'"};
+      throw LineError{"color: expects size|aniso|length|quality|ref|deviation|distance|fallback|none, got '" + l.words[1] +
+                      "'"};
     if (l.words[1] == "deviation" && v.bezier == 0) throw LineError{"color deviation: show the G1 surface first (bezier K)"};
-    if (l.words[1] == "distance" && v.bezier > 0)
-      throw LineError{"color distance: the distance colours the mesh; hide the G1 surface first (bezier off)"};
+    if (colors_mesh_only(l.words[1]) && v.bezier > 0)
+      throw LineError{"color " + l.words[1] + ": the " + (l.words[1] == "distance" ? "distance colours" : "placements colour") +
+                      " the mesh; hide the G1 surface first (bezier off)"};
     v.color = l.words[1];
   } else if (cmd == "glyphs") {
     v.glyphs = on_off(l, "glyphs on|off");
@@ -317,7 +319,7 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
       const double k = number(l, 1, "K");
       if (k < 1 || k > 16 || k != std::floor(k)) throw LineError{"bezier: K must be a whole number in [1, 16]"};
       v.bezier = static_cast<int>(k);
-      if (v.color == "distance") v.color = "size";  // the G1 surface hides the mesh it colours
+      if (colors_mesh_only(v.color)) v.color = "size";  // the G1 surface hides the mesh they colour
     }
   } else if (cmd == "screenshot") {
     arity(l, 1, 1, "screenshot PNG");
@@ -382,10 +384,13 @@ const char* script_help() {
          "                                         quality / longest length bin), frame its worst\n"
          "  clear-selection\n"
          "  view iso|front|back|top|bottom|left|right\n"
-         "  color size|aniso|length|quality|ref|deviation|distance|none\n"
+         "  color size|aniso|length|quality|ref|deviation|distance|fallback|none\n"
          "                                         (deviation: the mesh to its G1 surface, with\n"
          "                                         bezier K; distance: the mesh to the input\n"
-         "                                         surface T_G, measured after each pass shown)\n"
+         "                                         surface T_G, measured after each pass shown;\n"
+         "                                         fallback: each vertex on the G1 surface, pulled\n"
+         "                                         back to the input where the G1 surface strayed\n"
+         "                                         beyond the input bound, or off the surface)\n"
          "  glyphs on|off | wire on|off | touched on|off (vertices the shown pass touched)\n"
          "  bezier K|off | control-net on|off\n"
          "  screenshot PNG | save MESH [SOL] | quit\n";

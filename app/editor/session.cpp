@@ -13,6 +13,7 @@
 #include "metric/expression.h"
 #include "metric/hessian.h"
 #include "metric/surface_metric.h"
+#include "remesh/adapted_mesh.h"
 
 namespace anisurf::editor {
 
@@ -90,6 +91,7 @@ std::shared_ptr<const Snapshot> EditorSession::initial_snapshot() const {
   auto s = std::make_shared<Snapshot>();
   s->mesh = *input_;
   s->metric = metric_;
+  s->placement = count_placements(s->mesh);
   s->label = "initial";
   return s;
 }
@@ -529,6 +531,9 @@ int EditorSession::next_cycle() {
   const std::shared_ptr<const Snapshot> shown = display().snapshot;
   if (!shown || !shown->has_report) throw Error("cycle: adapt first (run), the displayed mesh is T_0");
   auto t1 = std::make_unique<SurfaceMesh>(shown->mesh);
+  // The placements belong to the adaptation that made the mesh: the new T_0
+  // (and its initial state) has none.
+  t1->vertex_properties().remove(remesh::kPlacementProperty);
   const CompactMap map = t1->compact();
   MetricField carried(static_cast<std::size_t>(t1->vertex_capacity()));
   for (int v = 0; v < static_cast<int>(map.vertex.size()); ++v)

@@ -11,9 +11,15 @@ namespace anisurf::editor {
 
 // Colour modes of `color MODE` and the panel.
 // "deviation": the mesh to its G1 surface (drawn on the G1 surface);
-// "distance": the mesh to the input surface T_G (drawn on the mesh).
-inline constexpr const char* kColorModes[] = {"size", "aniso", "length", "quality", "ref", "deviation", "distance", "none"};
+// "distance": the mesh to the input surface T_G (drawn on the mesh);
+// "fallback": how each vertex was placed: on the G1 surface, pulled to the
+// input (where the G1 surface strayed beyond the input bound), off the
+// surface (drawn on the mesh).
+inline constexpr const char* kColorModes[] = {"size",      "aniso",    "length",   "quality", "ref",
+                                              "deviation", "distance", "fallback", "none"};
 bool is_color_mode(const std::string& mode);
+// The modes that colour the mesh itself, which the G1 surface hides.
+inline bool colors_mesh_only(const std::string& mode) { return mode == "distance" || mode == "fallback"; }
 
 struct ViewState {
   std::string color = "size";

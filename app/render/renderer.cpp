@@ -2,6 +2,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -119,6 +120,7 @@ void upload_geometry(GpuSurface& gpu, const SurfaceStructure& s) {
 void upload_quantity(GpuSurface& gpu, const SurfaceStructure& s) {
   const ScalarQuantity* q = s.active_scalar();
   const LabelQuantity* l = s.active_label();
+  const VertexCategories* vc = s.active_categories();
   std::string key = s.active + (q && q->log_scale ? "/log" : "");
   if (key == gpu.uploaded_quantity) return;
   gpu.uploaded_quantity = key;
@@ -143,6 +145,20 @@ void upload_quantity(GpuSurface& gpu, const SurfaceStructure& s) {
       for (int k = 0; k < 3; ++k) rgba[4 * t + static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(std::lround(c[k] * 255));
       rgba[4 * t + 3] = 255;
     }
+    gpu.triangle_colors.upload(GL_RGBA8, rgba.data(), rgba.size());
+  } else if (vc) {
+    // Three colours per triangle: its corners' categories.
+    std::vector<std::uint8_t> rgba(tris.size() * 12, 140);
+    for (std::size_t t = 0; t < tris.size(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        const unsigned i = tris[t][k];
+        const int c = i < vc->values.size() ? vc->values[i] : -1;
+        std::uint8_t* px = &rgba[12 * t + 4 * static_cast<std::size_t>(k)];
+        if (c >= 0 && c < static_cast<int>(vc->categories.size()))
+          for (int j = 0; j < 3; ++j)
+            px[j] = static_cast<std::uint8_t>(std::lround(std::clamp(vc->categories[static_cast<std::size_t>(c)].color[j], 0.0f, 1.0f) * 255));
+        px[3] = 255;
+      }
     gpu.triangle_colors.upload(GL_RGBA8, rgba.data(), rgba.size());
   }
 }
@@ -232,6 +248,8 @@ void Renderer::draw(const Scene& scene, int width, int height, int samples) {
       r.colormap(q->colormap).bind(kUnitColormap);
     } else if (s.active_label()) {
       mode = 4;
+    } else if (s.active_categories()) {
+      mode = 5;
     }
     p.set("u_color_mode", mode);
     gpu.triangle_values.bind(kUnitTriangleValues);

@@ -38,9 +38,16 @@ const LabelQuantity* SurfaceStructure::active_label() const {
   return nullptr;
 }
 
+const VertexCategories* SurfaceStructure::active_categories() const {
+  for (const auto& c : categories)
+    if (c.name == active) return &c;
+  return nullptr;
+}
+
 bool SurfaceStructure::activate(const std::string& quantity) {
   bool known = quantity.empty() || std::any_of(scalars.begin(), scalars.end(), [&](auto& s) { return s.name == quantity; }) ||
-               std::any_of(labels.begin(), labels.end(), [&](auto& l) { return l.name == quantity; });
+               std::any_of(labels.begin(), labels.end(), [&](auto& l) { return l.name == quantity; }) ||
+               std::any_of(categories.begin(), categories.end(), [&](auto& c) { return c.name == quantity; });
   if (known) active = quantity;
   return known;
 }

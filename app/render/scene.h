@@ -1,9 +1,9 @@
 // What the renderer draws, independent of OpenGL and of the engine's mesh
 // (Polyscope's structure / quantity split): a Scene holds surface structures;
 // each has triangle geometry and named quantities that colour it (scalars on
-// vertices, triangles or edges; integer labels), curves (feature lines,
-// boundaries), point markers and ellipse glyphs. mesh_structure.h builds one
-// from a SurfaceMesh; a sampled surface (e.g. the G1 Bezier surface of the
+// vertices, triangles or edges; integer labels; vertex categories), curves
+// (feature lines, boundaries), point markers and ellipse glyphs.
+// mesh_structure.h builds one from a SurfaceMesh; a sampled surface (e.g. the G1 Bezier surface of the
 // geometry module) is drawn by adding another structure with its own
 // TriangleSet.
 #pragma once
@@ -62,6 +62,23 @@ struct LabelQuantity {
   std::vector<int> triangle_labels;
 };
 
+// A category per vertex (how each vertex was made, say), drawn without
+// blending: each triangle shows, around each corner, the points nearer that
+// corner than the other two (largest barycentric coordinate) in the colour
+// of the corner's category, so that every vertex shows as a patch of its own
+// category's colour. The legend lists the categories' labels as given (the
+// producer writes the counts into them).
+struct VertexCategories {
+  struct Category {
+    std::string label;  // one legend row
+    glm::vec3 color{0.6f};
+  };
+  std::string name;                  // shown in the UI and as the legend's title
+  std::vector<Category> categories;
+  std::vector<int> values;           // per position: index into categories (else drawn grey)
+  std::string note;                  // lines under the legend
+};
+
 // Line segments (2 points each) drawn with a constant width in pixels.
 struct Curves {
   std::string name;
@@ -100,16 +117,18 @@ struct SurfaceStructure {
   glm::vec3 color{0.70f, 0.74f, 0.80f};   // when no quantity is active
   std::vector<ScalarQuantity> scalars;
   std::vector<LabelQuantity> labels;
+  std::vector<VertexCategories> categories;
   std::vector<Curves> curves;
   std::vector<Markers> markers;
   std::vector<EllipseGlyphs> glyphs;
   std::vector<std::uint32_t> highlight_triangles;  // indices into geometry.triangles
   bool enabled = true;
-  // Name of the scalar or label quantity colouring the surface ("" = none).
+  // Name of the scalar, label or category quantity colouring the surface ("" = none).
   std::string active;
 
   const ScalarQuantity* active_scalar() const;
   const LabelQuantity* active_label() const;
+  const VertexCategories* active_categories() const;
   // Sets `active`; false (unchanged) if no quantity has that name.
   bool activate(const std::string& quantity);
 

@@ -40,6 +40,7 @@ void legend_window(Scene& scene, UiState& ui, int width, int height) {
   if (!s) return;
   const ScalarQuantity* q = s->active_scalar();
   const LabelQuantity* l = s->active_label();
+  const VertexCategories* vc = s->active_categories();
   bool any_curves = false;
   for (const auto& c : s->curves) any_curves |= c.enabled && !c.points.empty();
   for (const auto& m : s->markers) any_curves |= m.enabled && !m.positions.empty();
@@ -47,7 +48,7 @@ void legend_window(Scene& scene, UiState& ui, int width, int height) {
   const EllipseGlyphs* glyphs = nullptr;
   for (const auto& g : s->glyphs)
     if (g.enabled && !g.centers.empty()) glyphs = &g;
-  if (!q && !l && !any_curves && !glyphs) return;
+  if (!q && !l && !vc && !any_curves && !glyphs) return;
 
   const float pad = 12.0f;
   ImGui::SetNextWindowPos(ImVec2(static_cast<float>(width) - pad, static_cast<float>(height) - pad), ImGuiCond_Always,
@@ -119,9 +120,26 @@ void legend_window(Scene& scene, UiState& ui, int width, int height) {
       ImGui::SameLine();
       ImGui::Text("%d  (%zu triangles)", label, count);
     }
+  } else if (vc) {
+    ImGui::TextUnformatted(vc->name.c_str());
+    for (const auto& c : vc->categories) {
+      ImVec2 p = ImGui::GetCursorScreenPos();
+      dl->AddRectFilled(ImVec2(p.x, p.y + 2), ImVec2(p.x + line - 2, p.y + line), to_imgui(c.color));
+      dl->AddRect(ImVec2(p.x, p.y + 2), ImVec2(p.x + line - 2, p.y + line), IM_COL32(60, 60, 60, 255));
+      ImGui::Dummy(ImVec2(line, line));
+      ImGui::SameLine();
+      ImGui::TextUnformatted(c.label.c_str());
+    }
+    if (!vc->note.empty()) {
+      float rows_w = 0;
+      for (const auto& c : vc->categories) rows_w = std::max(rows_w, line + ImGui::CalcTextSize(c.label.c_str()).x);
+      ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + std::max(rows_w, 260.0f));
+      ImGui::TextDisabled("%s", vc->note.c_str());
+      ImGui::PopTextWrapPos();
+    }
   }
   if (any_curves) {
-    if (q || l) ImGui::Separator();
+    if (q || l || vc) ImGui::Separator();
     for (const auto& c : s->curves) {
       if (!c.enabled || c.points.empty()) continue;
       ImVec2 p = ImGui::GetCursorScreenPos();
@@ -150,7 +168,7 @@ void legend_window(Scene& scene, UiState& ui, int width, int height) {
     }
   }
   if (glyphs) {
-    if (q || l || any_curves) ImGui::Separator();
+    if (q || l || vc || any_curves) ImGui::Separator();
     ImVec2 p = ImGui::GetCursorScreenPos();
     ImVec2 c(p.x + line, p.y + 0.5f * line);
     for (int i = 0; i < 24; ++i) {
@@ -199,10 +217,11 @@ void panel_window(Scene& scene, UiState& ui) {
     ImGui::PushID(static_cast<int>(si));
     ImGui::Separator();
     ImGui::Checkbox(s.name.c_str(), &s.enabled);
-    // Colour: none, each scalar, each label quantity.
+    // Colour: none, each scalar, label and category quantity.
     std::vector<std::string> names = {"(plain)"};
     for (const auto& q : s.scalars) names.push_back(q.name);
     for (const auto& l : s.labels) names.push_back(l.name);
+    for (const auto& c : s.categories) names.push_back(c.name);
     int current = 0;
     for (std::size_t i = 1; i < names.size(); ++i)
       if (names[i] == s.active) current = static_cast<int>(i);

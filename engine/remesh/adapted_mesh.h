@@ -59,6 +59,12 @@ enum class VertexKind {
   Fixed,  // corner, required, or on one or more than two feature edges
 };
 
+// The vertex property of T_1 (mesh()) that records how each vertex was
+// placed: 0 left off the surface (a split at the straight midpoint, or the
+// final pass's hausd split part of the way to T_G), 1 on the surface, 2 pulled
+// back towards T_G (InputBound). Copies of mesh() carry it.
+inline constexpr const char* kPlacementProperty = "remesh:on_surface";
+
 class AdaptedMesh {
  public:
   // T_1 starts as `initial` (usually a copy of T_0). Every vertex is located
