@@ -490,11 +490,9 @@ void print_summary(const AdaptCommandLine& c, int cycles, const remesh::AdaptRes
   const double hausd = c.hausd > 0 ? c.hausd : r.protection_hausd;
   if (!r.cycles.back().passes.empty()) {
     const remesh::PassReport& last = r.cycles.back().passes.back();
-    char bound[96] = "1/4 of the size";
-    if (hausd > 0) std::snprintf(bound, sizeof bound, "hausd %.4g or 1/4 of the size", hausd);
-    if (hausd > 0 || last.bound_splits > 0 || last.beyond_bound > 0)
-      std::printf("distance     %d splits onto the input; %d edge midpoints or centroids farther than %s\n",
-                  last.bound_splits, last.beyond_bound, bound);
+    if (hausd > 0)
+      std::printf("distance     %d splits onto the input; %d edge midpoints or centroids farther than hausd %.4g\n",
+                  last.bound_splits, last.beyond_bound, hausd);
   }
   std::printf("remeshing    %.2f s, %s operations per second\n", run_seconds,
               format_rate(splits + collapses + swaps + moves + removed, run_seconds).c_str());
