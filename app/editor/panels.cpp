@@ -222,7 +222,11 @@ void metric_panel(EditorSession& s, PanelState& p) {
   if (hgrad_moved) e.hgrad = std::round(static_cast<double>(hgrad) * 100.0) / 100.0;
   if (e.source != MetricSettings::Source::Curvature) {
     ImGui::SetNextItemWidth(200);
-    track(ImGui::InputDouble("hausd bound (0: diagonal/1000 for a Hessian)", &e.hausd_bound, 0, 0, "%.4g"));
+    track(ImGui::InputDouble("hausd (0: auto)", &e.hausd_bound, 0, 0, "%.4g"));
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("chordal deviation bound: the metric is intersected with the curvature metric of it and\n"
+                        "the output stays within it. 0: diagonal/1000 for a Hessian metric (the geometry\n"
+                        "protection of anisurf adapt), none for a loaded metric or a size");
   }
   ImGui::SetNextItemWidth(200);
   track(ImGui::InputDouble("hmin", &e.hmin, 0, 0, "%.4g"));
