@@ -94,4 +94,20 @@ inline double max_sphere_distance(const SurfaceMesh& mesh, const BezierSurface& 
   return mx;
 }
 
+// The mesh rebuilt from its positions and triangles by build_mesh, which
+// links every pair of twin edges (triangles added one by one in any order
+// can leave fans in pieces, their edges open: the curvature metric treats
+// open edges as boundaries, feature curves its fits do not cross).
+inline SurfaceMesh rebuilt(const SurfaceMesh& m) {
+  MeshData d;
+  for (int i = 0; i < m.vertex_capacity(); ++i) d.vertices.push_back(m.position(Vertex(i)));
+  for (Triangle t : m.triangles()) {
+    const int* v = m.triangle_vertices(t);
+    d.triangles.push_back({v[0], v[1], v[2]});
+  }
+  SurfaceMesh out;
+  build_mesh(d, out);
+  return out;
+}
+
 }  // namespace anisurf::test

@@ -18,6 +18,7 @@
 #include "test_util.h"
 
 using namespace anisurf;
+using anisurf::test::rebuilt;
 
 namespace {
 
@@ -30,20 +31,6 @@ std::array<double, 2> size_range(const SymTensor3& M) {
   return {1.0 / std::sqrt(e.values[2]), 1.0 / std::sqrt(e.values[0])};
 }
 
-// The mesh rebuilt from its positions and triangles by build_mesh, which
-// links every pair of twin edges (triangles added one by one in any order
-// can leave fans in pieces, their edges open).
-SurfaceMesh rebuilt(const SurfaceMesh& m) {
-  MeshData d;
-  for (int i = 0; i < m.vertex_capacity(); ++i) d.vertices.push_back(m.position(Vertex(i)));
-  for (Triangle t : m.triangles()) {
-    const int* v = m.triangle_vertices(t);
-    d.triangles.push_back({v[0], v[1], v[2]});
-  }
-  SurfaceMesh out;
-  build_mesh(d, out);
-  return out;
-}
 
 // Surface of the unit cube, each face an n x n grid of squares cut by
 // alternating diagonals, outward triangles.

@@ -11,9 +11,11 @@
 #include "mesh/mesh_data.h"
 #include "metric/hessian.h"
 #include "metric/surface_metric.h"
+#include "test_geometry_util.h"
 #include "test_util.h"
 
 using namespace anisurf;
+using anisurf::test::rebuilt;
 
 namespace {
 
@@ -124,21 +126,6 @@ double tensor_error(const SymTensor2& a, const SymTensor2& b) {
   return std::max({std::fabs(a.m[0] - b.m[0]), std::fabs(a.m[1] - b.m[1]), std::fabs(a.m[2] - b.m[2])});
 }
 
-// The mesh rebuilt from its positions and triangles by build_mesh, which
-// links every pair of twin edges (triangles added one by one in any order
-// can leave fans in pieces, their edges open: the curvature metric treats
-// open edges as boundaries, feature curves its fits do not cross).
-SurfaceMesh rebuilt(const SurfaceMesh& m) {
-  MeshData d;
-  for (int i = 0; i < m.vertex_capacity(); ++i) d.vertices.push_back(m.position(Vertex(i)));
-  for (Triangle t : m.triangles()) {
-    const int* v = m.triangle_vertices(t);
-    d.triangles.push_back({v[0], v[1], v[2]});
-  }
-  SurfaceMesh out;
-  build_mesh(d, out);
-  return out;
-}
 
 }  // namespace
 

@@ -432,8 +432,9 @@ std::vector<Remesher::BeyondBound> Remesher::edges_beyond_bound() {
   const double relative = options_.relative_distance_bound;
   // The relative share of the size the metric asks for along edge u-w.
   auto relative_bound = [&](Vertex u, Vertex w) {
+    if (!(relative > 0)) return std::numeric_limits<double>::infinity();
     const double metric_length = mesh_.length(u, w);
-    if (!(relative > 0) || !(metric_length > 0)) return std::numeric_limits<double>::infinity();
+    if (!(metric_length > 0)) return std::numeric_limits<double>::infinity();
     return relative * norm(mesh.position(w) - mesh.position(u)) / metric_length;
   };
   // The bound at a point: the absolute one, or the relative one beyond the
