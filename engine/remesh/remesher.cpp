@@ -179,6 +179,11 @@ void Remesher::mark(Vertex v) {
   }
   swap_active_[i] = 1;
   smooth_active_[i] = 1;
+  stamp(v);
+}
+
+void Remesher::stamp(Vertex v) {
+  const std::size_t i = static_cast<std::size_t>(v.idx);
   if (i >= marked_at_.size())
     marked_at_.resize(std::max<std::size_t>(i + 1, static_cast<std::size_t>(mesh_.mesh().vertex_capacity())), 0);
   marked_at_[i] = ++marks_;
@@ -389,7 +394,12 @@ void Remesher::smooth_pass(PassReport& r) {
     }
     move(mesh_, v, plan);
     ++r.moves;
-    touch(r, v);
+    if (plan.quality_after - plan.quality_before >= options_.smoothing_spread_gain) {
+      touch(r, v);
+    } else {
+      record_touched(r, v);
+      stamp(v);  // moved: its edges' sag memo (edge_sags) is stale
+    }
   }
   ++smoothing_done_;
 }
@@ -722,6 +732,8 @@ PassReport Remesher::advance_schedule() {
   PassReport r = step(plan[static_cast<std::size_t>(s.pass)], previous(), round_end || options_.measure_every_pass);
   s.round_changes += r.splits + r.collapses;  // only the split and collapse passes make either
   if (round_end) {
+    s.round_band.push_back(r.in_band_share);
+    s.round_change.push_back(s.round_changes);
     end_round();
     r.over_limit = options_.max_round_vertices > 0 && mesh_.mesh().n_vertices() > options_.max_round_vertices;
   } else {
@@ -749,7 +761,9 @@ void Remesher::end_round() {
   Schedule& s = schedule_;
   s.pass = 0;
   const bool converged = s.round_changes <= options_.converged_share * mesh_.mesh().n_vertices();
-  if (!converged && s.stage_rounds < options_.max_rounds) return;
+  if (!converged && !stagnated() && s.stage_rounds < options_.max_rounds) return;
+  s.round_band.clear();
+  s.round_change.clear();
   if (s.stage < std::max(0, options_.relaxation_stages)) {
     ++s.stage;
     s.stage_rounds = 0;
@@ -757,6 +771,18 @@ void Remesher::end_round() {
   } else {
     s.phase = Schedule::Phase::Final;
   }
+}
+
+bool Remesher::stagnated() const {
+  const Schedule& s = schedule_;
+  const std::size_t k = static_cast<std::size_t>(std::max(0, options_.stagnation_rounds));
+  const std::size_t n = s.round_band.size();
+  if (k == 0 || n <= k) return false;
+  const double few = options_.stagnation_share * mesh_.mesh().n_vertices();
+  const double before = *std::max_element(s.round_band.begin(), s.round_band.end() - static_cast<std::ptrdiff_t>(k));
+  for (std::size_t i = n - k; i < n; ++i)
+    if (s.round_change[i] > few || s.round_band[i] > before + options_.stagnation_band_gain) return false;
+  return true;
 }
 
 std::vector<PassReport> Remesher::run(const std::function<void(const PassReport&)>& progress,
