@@ -262,6 +262,53 @@ void save_recent(const PanelState& p) {
   }
 }
 
+// Frame times, the responsiveness measure: the work of each frame from its
+// events to the swap (the sleep of the frame cap excluded), overall and
+// while each kind of background work goes on, with the slowest frame and
+// what went on then.
+struct FrameStats {
+  enum Activity { Metric, Pass, Bezier, kActivities };
+  static constexpr const char* kNames[kActivities] = {"a metric is built", "a pass runs", "the G1 surface is built"};
+  int frames = 0;
+  double total = 0, slowest = 0;
+  std::string slowest_during;
+  int active_frames[kActivities] = {};
+  double active_slowest[kActivities] = {};
+  bool skip_current = false;  // a reset during this frame: it is not counted
+
+  void add(double dt, const bool (&active)[kActivities]) {
+    if (skip_current) {
+      skip_current = false;
+      return;
+    }
+    ++frames;
+    total += dt;
+    std::string during;
+    for (int i = 0; i < kActivities; ++i)
+      if (active[i]) {
+        ++active_frames[i];
+        active_slowest[i] = std::max(active_slowest[i], dt);
+        during += (during.empty() ? "" : ", ") + std::string(kNames[i]);
+      }
+    if (dt > slowest) {
+      slowest = dt;
+      slowest_during = during.empty() ? "nothing in the background" : during;
+    }
+  }
+  void reset() {
+    *this = FrameStats{};
+    skip_current = true;
+  }
+  void print() const {
+    std::fprintf(stderr, "frame stats: %d frames, mean %.1f ms, slowest %.1f ms (while %s)\n", frames,
+                 frames ? 1000 * total / frames : 0.0, 1000 * slowest, slowest_during.c_str());
+    for (int i = 0; i < kActivities; ++i)
+      if (active_frames[i] > 0)
+        std::fprintf(stderr, "frame stats: while %s: %d frames, slowest %.1f ms\n", kNames[i], active_frames[i],
+                     1000 * active_slowest[i]);
+  }
+};
+
 struct GlfwLib {
   GlfwLib() {
     if (!glfwInit()) {
@@ -295,6 +342,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
   glfwSwapInterval(1);
 
   App a;
+  a.panels.view = &a.ev;
   glfwSetWindowUserPointer(window, &a);
   glfwSetMouseButtonCallback(window, on_mouse_button);
   glfwSetCursorPosCallback(window, on_cursor);
@@ -350,6 +398,11 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
   ScriptHost host;
   host.screenshot = [&](const std::string& p) { pending_shot = p; };
   host.quit = [&] { quit = true; };
+  FrameStats frame_stats;
+  host.frame_stats = [&](bool reset) { reset ? frame_stats.reset() : frame_stats.print(); };
+  // As the Metric panel: built in the background, the next line played once installed.
+  host.set_settings = [&](const MetricSettings& m) { a.session.request_metric(m, true); };
+  const ScriptLine* metric_line = nullptr;  // the line whose metric is being built
   a.panels.screenshot = [&](const std::string& p) { pending_shot = p; };
   auto last_autosave = Clock::now();
 
@@ -368,10 +421,12 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
 
   for (int frame = 0; !glfwWindowShouldClose(window) && !quit; ++frame) {
     const auto frame_start = Clock::now();
-    const bool busy = a.session.running() || a.session.measuring() || !a.ev.settled(a.session, a.view) ||
-                      next_line < script.size() || !pending_shot.empty();
+    const bool busy = a.session.running() || a.session.measuring() || a.session.metric_building() ||
+                      a.ev.bezier_building() || !a.ev.settled(a.session, a.view) || next_line < script.size() ||
+                      !pending_shot.empty();
     release_held_keys(window, a);
-    if (!busy && frame_start - a.last_event > std::chrono::seconds(1))
+    // Measured frames never wait for events (the wait would count as work).
+    if (!busy && !o.frame_stats && frame_start - a.last_event > std::chrono::seconds(1))
       glfwWaitEventsTimeout(0.25);
     else
       glfwPollEvents();
@@ -379,14 +434,25 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     a.session.poll();
     if (a.panels.quit_confirmed) glfwSetWindowShouldClose(window, GLFW_TRUE);
 
-    // The script: the next line once the adaptation is idle and the last
-    // screenshot is written.
+    // The script: the next line once the adaptation is idle, the metric of
+    // the last metric line installed, the G1 surface asked for built and the
+    // last screenshot written.
+    if (metric_line && !a.session.metric_building()) {
+      if (const std::string err = a.session.apply_error(); !err.empty()) {
+        std::cerr << "anisurf: " << metric_line->where() << ": " << metric_line->words[0] << ": " << err << "\n";
+        exit_code = 1;
+        break;
+      }
+      metric_line = nullptr;
+    }
     const bool shown_latest = a.ev.shown() == a.session.display().snapshot.get();
-    if (next_line < script.size() && !a.session.running() && pending_shot.empty() && shown_latest) {
+    const bool background_done = !metric_line && (a.view.bezier == 0 || a.ev.bezier_current(a.view));
+    if (next_line < script.size() && !a.session.running() && pending_shot.empty() && shown_latest && background_done) {
       const ScriptLine& line = script[next_line++];
       try {
         if (const std::string err = a.session.adaptation_error(); !err.empty()) throw Error(err);
         execute(line, a.session, a.view, host);
+        if (a.session.metric_building()) metric_line = &line;
         if (line.words[0] == "open") {
           a.panels.open_path = line.words[1];
           a.panels.draft.valid = false;
@@ -423,7 +489,8 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     // A screenshot waits for the distance colours of the state shown.
-    if (!pending_shot.empty() && a.ev.settled(a.session, a.view) && --shots_waiting_frames <= 0) {
+    if (!pending_shot.empty() && a.ev.settled(a.session, a.view) && (!a.session.has_mesh() || a.session.analysis_current()) &&
+        --shots_waiting_frames <= 0) {
       render::Image img(fbw, fbh);
       gl::glPixelStorei(GL_PACK_ALIGNMENT, 1);
       gl::glReadPixels(0, 0, fbw, fbh, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
@@ -457,14 +524,19 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     if (awaiting_first && a.ev.shown() != shown_at_start) {
       first_shown = std::chrono::duration<double>(now - run_start).count();
       awaiting_first = false;
-      std::fprintf(stderr, "adaptation: first pass on screen %.3f s after the start (its pass %.3f s, view rebuild %.3f s)\n",
-                   first_shown, a.ev.shown() && a.ev.shown()->has_report ? a.ev.shown()->report.seconds : 0.0,
-                   a.ev.last_build_seconds());
+      std::fprintf(stderr,
+                   "adaptation: first pass on screen %.3f s after the start (the remesher's setup %.3f s, its pass %.3f s, "
+                   "its snapshot %.3f s, the view's structure %.3f s)\n",
+                   first_shown, a.session.last_setup_seconds(),
+                   a.ev.shown() && a.ev.shown()->has_report ? a.ev.shown()->report.seconds : 0.0,
+                   a.session.last_snapshot_seconds(), a.ev.last_build_seconds());
     }
     if (running) {
       ++run_frames;
       run_worst = std::max(run_worst, dt);
     }
+    const bool active[FrameStats::kActivities] = {a.session.metric_building(), running, a.ev.bezier_building()};
+    frame_stats.add(dt, active);
     if (!running && was_running) {
       run_seconds = std::chrono::duration<double>(now - run_start).count();
       const auto tl = a.session.timeline();
@@ -497,6 +569,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     write_autosave(a, autosave);
     save_recent(a.panels);
   }
+  if (o.frame_stats) frame_stats.print();
   a.session.pause();
   a.session.wait();
   return exit_code;
