@@ -400,12 +400,15 @@ void EditorView::update(EditorSession& session, ViewState& view, render::Scene& 
       for (auto& mk : s.markers) mk.enabled = mk.name == "touched by the pass" ? view.show_touched : view.features;
     } else if (s.name == kBezierName) {
       s.activate(view.color == "deviation" ? render::quantity::kDeviation : "");
-      for (auto& c : s.curves) c.enabled = c.name == "patch edges" ? view.wireframe : view.control_net;
+      // Sampled once per triangle, the sub-triangles are the patches: the
+      // shader's wireframe draws their edges (far cheaper than as curves).
+      for (auto& c : s.curves)
+        c.enabled = c.name == "patch edges" ? view.wireframe && bezier_sampled_k_ > 1 : view.control_net;
       for (auto& mk : s.markers) mk.enabled = mk.name == "touched by the pass" ? view.show_touched : view.control_net;
       for (auto& g : s.glyphs) g.enabled = view.glyphs;
     }
   }
-  scene.display.wireframe = view.wireframe && !bezier_;
+  scene.display.wireframe = view.wireframe && (!bezier_ || bezier_sampled_k_ == 1);
 
   // Camera requests wait for the opened mesh's structure (a fit needs it).
   if (shown_opened_ != session.opened()) return;

@@ -30,7 +30,7 @@ class EditorView {
  public:
   // The control net is drawn for at most this many patches (the nearest
   // to the view's centre when the surface was built).
-  static constexpr int kNetMaxPatches = 1000;
+  static constexpr int kNetMaxPatches = 400;
   // The G1 surface is sampled with at most this many sub-triangles: k per
   // edge is lowered on a large mesh (k^2 sub-triangles per triangle) so that
   // it draws about as fast as the mesh.

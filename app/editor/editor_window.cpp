@@ -268,6 +268,13 @@ void save_recent(const PanelState& p) {
 // what went on then.
 struct FrameStats {
   enum Activity { Metric, Pass, Bezier, kActivities };
+  // Where a frame's time went: events and the script's line, the view's
+  // update (structures collected, the scene composed), drawing the scene,
+  // the panels, the swap.
+  enum Part { Events, Update, Draw, Panels, Swap, kParts };
+  static constexpr const char* kPartNames[kParts] = {"events and script", "view update", "scene drawing", "panels (and a screenshot)",
+                                                     "swap"};
+  double slowest_parts[kParts] = {};
   static constexpr const char* kNames[kActivities] = {"a metric is built", "a pass runs", "the G1 surface is built"};
   int frames = 0;
   double total = 0, slowest = 0;
@@ -276,7 +283,7 @@ struct FrameStats {
   double active_slowest[kActivities] = {};
   bool skip_current = false;  // a reset during this frame: it is not counted
 
-  void add(double dt, const bool (&active)[kActivities]) {
+  void add(double dt, const bool (&active)[kActivities], const double (&parts)[kParts]) {
     if (skip_current) {
       skip_current = false;
       return;
@@ -293,6 +300,7 @@ struct FrameStats {
     if (dt > slowest) {
       slowest = dt;
       slowest_during = during.empty() ? "nothing in the background" : during;
+      std::copy(std::begin(parts), std::end(parts), std::begin(slowest_parts));
     }
   }
   void reset() {
@@ -302,6 +310,15 @@ struct FrameStats {
   void print() const {
     std::fprintf(stderr, "frame stats: %d frames, mean %.1f ms, slowest %.1f ms (while %s)\n", frames,
                  frames ? 1000 * total / frames : 0.0, 1000 * slowest, slowest_during.c_str());
+    if (frames > 0) {
+      std::string parts;
+      for (int i = 0; i < kParts; ++i) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%s%s %.0f ms", i ? ", " : "", kPartNames[i], 1000 * slowest_parts[i]);
+        parts += buf;
+      }
+      std::fprintf(stderr, "frame stats: the slowest frame: %s\n", parts.c_str());
+    }
     for (int i = 0; i < kActivities; ++i)
       if (active_frames[i] > 0)
         std::fprintf(stderr, "frame stats: while %s: %d frames, slowest %.1f ms\n", kNames[i], active_frames[i],
@@ -470,7 +487,9 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     if (fbw <= 0 || fbh <= 0) continue;
     const float aspect = static_cast<float>(fbw) / static_cast<float>(fbh);
     if (frame == 3 && !a.view.frame_selection) a.view.fit_request = true;  // panel widths known now
+    const auto t_events = Clock::now();
     a.ev.update(a.session, a.view, a.scene, aspect, a.ui.left_reserve(fbw), a.ui.right_reserve(fbw));
+    const auto t_update = Clock::now();
     // Hover: the element under the mouse (not while dragging, nor while a
     // script plays: its screenshots show no tooltip).
     a.panels.hover.reset();
@@ -482,6 +501,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     // One sample per pixel while the camera moves or the adaptation runs.
     const bool moving = a.rotating || a.panning || a.session.running();
     renderer.render(a.scene, fbw, fbh, moving ? 1 : a.scene.display.msaa_samples);
+    const auto t_draw = Clock::now();
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
@@ -507,6 +527,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
       }
       pending_shot.clear();
     }
+    const auto t_panels = Clock::now();
     glfwSwapBuffers(window);
 
     // Statistics and autosave.
@@ -536,7 +557,11 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
       run_worst = std::max(run_worst, dt);
     }
     const bool active[FrameStats::kActivities] = {a.session.metric_building(), running, a.ev.bezier_building()};
-    frame_stats.add(dt, active);
+    using Seconds = std::chrono::duration<double>;
+    const double parts[FrameStats::kParts] = {Seconds(t_events - frame_start).count(), Seconds(t_update - t_events).count(),
+                                              Seconds(t_draw - t_update).count(), Seconds(t_panels - t_draw).count(),
+                                              Seconds(now - t_panels).count()};
+    frame_stats.add(dt, active, parts);
     if (!running && was_running) {
       run_seconds = std::chrono::duration<double>(now - run_start).count();
       const auto tl = a.session.timeline();
