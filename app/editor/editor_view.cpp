@@ -267,7 +267,11 @@ void EditorView::start_bezier(const ViewState& view, const render::Scene& scene)
   bo.control_net = view.control_net;
   bo.patch_edges = true;  // the wireframe toggle shows them (not the sub-triangles)
   bo.net_max_patches = kNetMaxPatches;
+  // The net around the point of the mesh at the centre of the view (what
+  // the user looks at), else around the camera's target.
   bo.net_centre = scene.camera.target;
+  if (const auto hit = render::pick(mesh_.structure.geometry, render::pixel_ray(scene.camera, 0.0f, 0.0f, 1, 1)))
+    bo.net_centre = hit->point;
   // The snapshot is immutable and kept alive by the job.
   bezier_job_ = std::async(std::launch::async, [of = shown_, bo] {
     // Below the window's thread: it keeps drawing. Best effort.

@@ -29,7 +29,7 @@ struct HoverInfo {
 class EditorView {
  public:
   // The control net is drawn for at most this many patches (the nearest
-  // to the view's centre when the surface was built).
+  // to the point at the view's centre when the surface was built).
   static constexpr int kNetMaxPatches = 400;
   // The G1 surface is sampled with at most this many sub-triangles: k per
   // edge is lowered on a large mesh (k^2 sub-triangles per triangle) so that

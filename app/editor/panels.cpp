@@ -244,7 +244,7 @@ void metric_panel(EditorSession& s, PanelState& p) {
   }
   if (commit && s.has_mesh() && !(e == s.settings())) {
     p.preview_due.reset();
-    act(p, "building the metric (" + std::string(source_name(e.source)) + ")", [&] { s.request_metric(e, true); });
+    s.request_metric(e, true);  // the line below says it builds; an error shows under the fields
   }
   if (s.metric_building()) {
     // An indeterminate progress: the engine reports none while it builds.
@@ -583,7 +583,7 @@ void bezier_panel(ViewState& v, PanelState& p) {
         ImGui::SetTooltip("Built in the background; the view shows what it showed before until it is ready.");
     }
     if (p.view && p.view->bezier_k() > 0 && p.view->bezier_k() < v.bezier) {
-      ImGui::TextDisabled("drawn with %d samples per edge", p.view->bezier_k());
+      ImGui::TextDisabled("drawn with k = %d (at most %d sub-triangles)", p.view->bezier_k(), EditorView::kBezierMaxTriangles);
       if (ImGui::IsItemHovered())
         ImGui::SetTooltip("At most %d sub-triangles are drawn (k^2 per triangle), so that the surface draws\n"
                           "about as fast as the mesh: k is lowered on a mesh this large.",
@@ -595,10 +595,11 @@ void bezier_panel(ViewState& v, PanelState& p) {
         ImGui::TextDisabled("control net of %d of %d patches", n.shown, n.patches);
         if (ImGui::IsItemHovered())
           ImGui::SetTooltip("The net of every patch would be about %d lines: it is drawn for the %d patches\n"
-                            "nearest to the centre of the view when the surface was built.",
+                            "around the point at the centre of the view when the surface was built.",
                             static_cast<int>(render::control_net_edges().size()) * n.patches, n.shown);
         ImGui::SameLine();
-        if (ImGui::SmallButton("around the view's centre")) p.view->recentre_net();
+        if (ImGui::SmallButton("re-centre")) p.view->recentre_net();
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("Build the net again around the point at the centre of the view");
       } else {
         ImGui::TextDisabled("control net of all %d patches", n.patches);
       }
