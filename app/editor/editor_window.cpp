@@ -563,6 +563,9 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
                                               Seconds(now - t_panels).count()};
     frame_stats.add(dt, active, parts);
     if (!running && was_running) {
+      if (const auto asked = a.session.stop_requested())
+        std::fprintf(stderr, "adaptation: stopped %.3f s after the pause or cancel was asked\n",
+                     std::chrono::duration<double>(now - *asked).count());
       run_seconds = std::chrono::duration<double>(now - run_start).count();
       const auto tl = a.session.timeline();
       std::fprintf(stderr,

@@ -652,6 +652,7 @@ void EditorSession::run(int max_passes) {
   const std::size_t from = scrub_ >= 0 && static_cast<std::size_t>(scrub_) < n ? static_cast<std::size_t>(scrub_) : n - 1;
   run_start_ = from + 1;
   scrub_ = -1;
+  stop_requested_.reset();
   adaptation_->start(from, max_passes);
   log(max_passes == 1 ? "step" : max_passes > 0 ? "run " + std::to_string(max_passes) : "run");
   changed();
@@ -717,11 +718,14 @@ void EditorSession::set_band(double lmin, double lmax) {
 }
 
 void EditorSession::pause() {
-  if (adaptation_) adaptation_->request_stop();
+  if (!adaptation_) return;
+  if (adaptation_->running() && !stop_requested_) stop_requested_ = std::chrono::steady_clock::now();
+  adaptation_->request_stop();
 }
 
 void EditorSession::cancel() {
   if (!adaptation_) return;
+  if (adaptation_->running() && !stop_requested_) stop_requested_ = std::chrono::steady_clock::now();
   adaptation_->request_stop();
   cancel_pending_ = true;  // the timeline is cut once the worker is idle (poll())
   poll();

@@ -186,6 +186,9 @@ class EditorSession {
   void step();
   void run(int max_passes = 0);
   void pause();   // stop after the current pass
+  // When the pause (or cancel) of the run in progress was asked (nullopt:
+  // none since the run started): the window measures how long stopping took.
+  std::optional<std::chrono::steady_clock::time_point> stop_requested() const { return stop_requested_; }
   void cancel();  // stop and go back to where the current run started (once the pass in progress ends)
   // Applies what waited for the worker to be idle (a cancel), installs a
   // metric built in the background, and once the session has been still for
@@ -333,6 +336,7 @@ class EditorSession {
   int scrub_ = -1;
   std::size_t run_start_ = 0;  // timeline size when the current run started
   bool cancel_pending_ = false;
+  std::optional<std::chrono::steady_clock::time_point> stop_requested_;
   Analysis analysis_;
   std::shared_ptr<const Snapshot> analysis_of_;
   std::future<Analysis> analysis_job_;  // the analysis of analysis_job_of_, in its thread
