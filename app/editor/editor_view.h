@@ -30,7 +30,7 @@ class EditorView {
  public:
   // The control net is drawn for at most this many patches (the nearest
   // to the point at the view's centre when the surface was built).
-  static constexpr int kNetMaxPatches = 400;
+  static constexpr int kNetMaxPatches = 150;
   // The G1 surface is sampled with at most this many sub-triangles: k per
   // edge is lowered on a large mesh (k^2 sub-triangles per triangle) so that
   // it draws about as fast as the mesh.
