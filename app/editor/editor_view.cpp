@@ -265,7 +265,9 @@ void EditorView::start_bezier(const ViewState& view, const render::Scene& scene)
   render::BezierStructureOptions bo;
   bo.k = bezier_job_sampled_k_;
   bo.control_net = view.control_net;
-  bo.patch_edges = true;  // the wireframe toggle shows them (not the sub-triangles)
+  // The wireframe toggle shows them (not the sub-triangles); sampled once per
+  // triangle, the sub-triangles are the patches and the shader draws them.
+  bo.patch_edges = bezier_job_sampled_k_ > 1;
   bo.net_max_patches = kNetMaxPatches;
   // The net around the point of the mesh at the centre of the view (what
   // the user looks at), else around the camera's target.
