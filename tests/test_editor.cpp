@@ -669,8 +669,13 @@ TEST_CASE("editor: the fallback colours: the vertices pulled to the input, count
   v.color = "fallback";
   EditorView ev;
   render::Scene scene;
+  // The view builds the structure of a state in its thread: updates until it is shown.
   auto shown = [&]() -> const render::VertexCategories* {
     ev.update(s, v, scene, 1.6f, 0, 0);
+    for (int i = 0; i < 2000 && !ev.settled(s, v); ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      ev.update(s, v, scene, 1.6f, 0, 0);
+    }
     for (const auto& st : scene.surfaces)
       if (st.name == "mesh") return st.active_categories();
     return nullptr;

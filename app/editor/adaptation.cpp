@@ -23,8 +23,15 @@ SharedGeometry start_geometry(const SurfaceMesh& input, const AdaptSettings& set
 }
 
 Adaptation::Adaptation(const SurfaceMesh& input, MetricField metric, const AdaptSettings& settings,
-                       std::shared_ptr<const Snapshot> initial, SharedGeometry geometry, bool t0_is_geometry)
-    : input_(input), t0_is_geometry_(t0_is_geometry), settings_(settings), geometry_future_(std::move(geometry)), metric_(std::move(metric)) {
+                       std::shared_ptr<const Snapshot> initial, SharedGeometry geometry,
+                       std::shared_ptr<std::mutex> geometry_lock, bool t0_is_geometry)
+    : input_(input),
+      t0_is_geometry_(t0_is_geometry),
+      settings_(settings),
+      geometry_future_(std::move(geometry)),
+      geometry_lock_(std::move(geometry_lock)),
+      metric_(std::move(metric)) {
+  if (!geometry_lock_) geometry_lock_ = std::make_shared<std::mutex>();
   timeline_.push_back(std::move(initial));
 }
 
@@ -61,7 +68,32 @@ void Adaptation::truncate(std::size_t keep) {
   }
 }
 
+void Adaptation::prepare() {
+  if (running_ || remesher_) return;
+  if (worker_.joinable()) worker_.join();
+  {
+    std::lock_guard lock(mutex_);
+    preparing_ = true;
+    queued_.reset();
+  }
+  stop_ = false;
+  running_ = true;
+  worker_ = std::thread([this] { work(0, 0, true); });
+}
+
 void Adaptation::start(std::size_t from, int max_passes) {
+  {
+    std::lock_guard lock(mutex_);
+    if (running_ && preparing_) {  // the passes follow the setup in progress
+      if (timeline_[std::min(from, timeline_.size() - 1)]->schedule.phase == Schedule::Phase::Done) return;
+      queued_ = Queued{from, max_passes};
+      error_.clear();
+      start_requested_ = Clock::now();
+      stop_ = false;
+      passes_ = true;
+      return;
+    }
+  }
   if (running_) return;
   if (worker_.joinable()) worker_.join();
   {
@@ -69,10 +101,12 @@ void Adaptation::start(std::size_t from, int max_passes) {
     if (from >= timeline_.size()) from = timeline_.size() - 1;
     if (timeline_[from]->schedule.phase == Schedule::Phase::Done) return;
     error_.clear();
+    start_requested_ = Clock::now();
   }
   stop_ = false;
   running_ = true;
-  worker_ = std::thread([this, from, max_passes] { work(from, max_passes); });
+  passes_ = true;
+  worker_ = std::thread([this, from, max_passes] { work(from, max_passes, false); });
 }
 
 void Adaptation::rebuild_from(const Snapshot& s) {
@@ -90,10 +124,38 @@ void Adaptation::rebuild_from(const Snapshot& s) {
   remesher_->set_schedule(s.schedule);
 }
 
-void Adaptation::work(std::size_t from, int max_passes) {
+void Adaptation::work(std::size_t from, int max_passes, bool prepare_only) {
   // Below the window's threads (and llvmpipe's): the window keeps drawing
   // while the passes run. Best effort: ignored if refused.
   setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 5);
+  std::unique_lock geometry_lock(*geometry_lock_);  // one adaptation on the geometry at a time
+  if (prepare_only) {
+    try {
+      std::shared_ptr<const Snapshot> initial;
+      {
+        std::lock_guard lock(mutex_);
+        initial = timeline_.front();
+      }
+      if (!remesher_) rebuild_from(*initial);
+      built_from_ = 0;
+    } catch (const std::exception&) {
+      // Not reported here: the passes set the remesher up again and report it.
+      remesher_.reset();
+      adapted_.reset();
+      built_from_ = static_cast<std::size_t>(-1);
+    }
+    std::lock_guard lock(mutex_);
+    preparing_ = false;
+    if (!queued_ || stop_) {
+      queued_.reset();
+      passes_ = false;
+      running_ = false;
+      return;
+    }
+    from = std::min(queued_->from, timeline_.size() - 1);
+    max_passes = queued_->max_passes;
+    queued_.reset();
+  }
   try {
     std::shared_ptr<const Snapshot> start;
     {
@@ -105,6 +167,7 @@ void Adaptation::work(std::size_t from, int max_passes) {
       start = timeline_[from];
     }
     if (built_from_ != from || !remesher_) rebuild_from(*start);
+    last_setup_seconds_ = std::chrono::duration<double>(Clock::now() - start_requested_).count();
     // A pause ends the pass in progress early (its snapshot is marked
     // interrupted; the schedule resumes with that pass).
     remesher_->set_interrupt([this] { return stop_.load(); });
@@ -150,6 +213,7 @@ void Adaptation::work(std::size_t from, int max_passes) {
     adapted_.reset();
     ++version_;
   }
+  passes_ = false;
   running_ = false;
 }
 

@@ -5,10 +5,12 @@
 // pause after any pass, resume, or restart from any snapshot.
 #pragma once
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <future>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -51,21 +53,33 @@ class Adaptation {
  public:
   // T_0 = `input` (features tagged; must outlive the adaptation) with
   // `metric`, on `geometry` (built over `input` when t0_is_geometry, else
-  // over the mesh T_0 was adapted from: a later cycle; used by one adaptation
-  // at a time). The timeline starts with `initial` (T_0's snapshot).
+  // over the mesh T_0 was adapted from: a later cycle). The geometry answers
+  // one adaptation at a time: the worker holds `geometry_lock` (the same
+  // mutex for every adaptation on that geometry) while it works. The
+  // timeline starts with `initial` (T_0's snapshot).
   Adaptation(const SurfaceMesh& input, MetricField metric, const AdaptSettings& settings,
-             std::shared_ptr<const Snapshot> initial, SharedGeometry geometry, bool t0_is_geometry = true);
+             std::shared_ptr<const Snapshot> initial, SharedGeometry geometry, std::shared_ptr<std::mutex> geometry_lock,
+             bool t0_is_geometry = true);
   ~Adaptation();  // stops the worker (after its current pass)
   Adaptation(const Adaptation&) = delete;
   Adaptation& operator=(const Adaptation&) = delete;
 
+  // Sets the remesher up from the initial state in the worker (the control
+  // space, the mesh on the geometry: seconds on a large mesh), without a
+  // pass, so that start() begins with the pass. No-op if the worker runs or
+  // the remesher is set up.
+  void prepare();
   // Starts the worker from snapshot `from` (cutting the timeline after it)
-  // for at most max_passes passes (0: until the schedule is done). No-op if
-  // the worker runs or the schedule is done.
+  // for at most max_passes passes (0: until the schedule is done); during a
+  // prepare() the passes follow it. No-op if passes run or the schedule is
+  // done.
   void start(std::size_t from, int max_passes);
   void request_stop() { stop_ = true; }
   void wait();
-  bool running() const { return running_; }
+  // Passes run or are about to (not a prepare() alone).
+  bool running() const { return passes_; }
+  // The worker is alive (passes or a prepare()).
+  bool working() const { return running_; }
   // Drops the snapshots after `keep` (worker idle).
   void truncate(std::size_t keep);
 
@@ -76,15 +90,22 @@ class Adaptation {
   // Seconds of the last pass and the time to take its snapshot.
   double last_pass_seconds() const { return last_pass_seconds_; }
   double last_snapshot_seconds() const { return last_snapshot_seconds_; }
+  // Seconds from start() to the beginning of its first pass (the remesher's
+  // setup, or what was left of a prepare(); about 0 when it resumed from
+  // where it stopped).
+  double last_setup_seconds() const { return last_setup_seconds_; }
 
  private:
-  void work(std::size_t from, int max_passes);
+  // The worker: prepare_only sets the remesher up, then runs the passes a
+  // start() queued meanwhile, if any.
+  void work(std::size_t from, int max_passes, bool prepare_only);
   void rebuild_from(const Snapshot& s);
 
   const SurfaceMesh& input_;
   bool t0_is_geometry_;
   AdaptSettings settings_;
   SharedGeometry geometry_future_;
+  std::shared_ptr<std::mutex> geometry_lock_;
   std::shared_ptr<remesh::GeometrySurface> geometry_;
   std::unique_ptr<remesh::ControlSpace> control_;
   std::unique_ptr<remesh::AdaptedMesh> adapted_;
@@ -96,9 +117,16 @@ class Adaptation {
   std::vector<std::shared_ptr<const Snapshot>> timeline_;
   std::string error_;
   std::thread worker_;
-  std::atomic<bool> stop_{false}, running_{false};
+  std::atomic<bool> stop_{false}, running_{false}, passes_{false};
+  bool preparing_ = false;  // under mutex_, as queued_
+  struct Queued {
+    std::size_t from;
+    int max_passes;
+  };
+  std::optional<Queued> queued_;
+  std::chrono::steady_clock::time_point start_requested_;
   std::atomic<std::uint64_t> version_{1};
-  std::atomic<double> last_pass_seconds_{0}, last_snapshot_seconds_{0};
+  std::atomic<double> last_pass_seconds_{0}, last_snapshot_seconds_{0}, last_setup_seconds_{0};
 };
 
 }  // namespace anisurf::editor

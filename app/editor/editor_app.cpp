@@ -1,5 +1,7 @@
 #include "editor/editor_app.h"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
@@ -18,6 +20,8 @@ const char* kEditorHelp =
     "       anisurf --script FILE [--headless] [--size WxH] [--max-fps F]\n"
     "                                               run an editor script: headless pictures\n"
     "                                               through OSMesa, or drive the window\n"
+    "       anisurf [MESH [SOL]] --frame-stats      the window prints its frame times at exit\n"
+    "                                               (the slowest frame, and what ran then)\n"
     "       anisurf --help-script                   the script language\n\n"
     "Window: left drag orbit (paints with the brush tool, B), right drag pan, wheel zoom;\n"
     "keys 1-7 views, F fit, G glyphs, W wireframe, space step, R run/pause,\n"
@@ -35,6 +39,16 @@ std::string find_demo(const std::string& name) {
     if (std::filesystem::exists(dir / name, ec)) return (dir / name).string();
   }
   return {};
+}
+
+// llvmpipe allocates and frees frame-sized buffers (megabytes) every frame.
+// With glibc's adaptive mmap threshold they end up at the top of the heap
+// and each free trims it, so the next frame faults every page in again: on
+// the Falcon that tripled the time of a frame (and most of it in the
+// kernel). A fixed mmap threshold and a high trim threshold keep them.
+void keep_frame_buffers_allocated() {
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 512 << 20);
 }
 
 std::pair<int, int> parse_size(const std::string& t) {
@@ -91,10 +105,13 @@ std::optional<int> editor_main(const std::vector<std::string>& args, const std::
     if (o.headless && !script_mode) throw cli::UsageError{"--headless goes with --script FILE"};
     if (const std::string s = p.option("--size"); !s.empty()) std::tie(o.width, o.height) = parse_size(s);
     o.max_fps = p.option_double("--max-fps", 60);
+    o.frame_stats = p.flag("--frame-stats");
+    if (o.frame_stats && o.headless) throw cli::UsageError{"--frame-stats measures the window: not with --headless"};
     if (!(o.max_fps >= 1)) throw cli::UsageError{"--max-fps expects a frame rate >= 1"};
     const auto pos = p.positionals();
     if (pos.size() > 2) throw cli::UsageError{"expected [MESH [SOL]]"};
     if (script_mode && !pos.empty()) throw cli::UsageError{"--script takes the mesh from the script (open MESH [SOL])"};
+    keep_frame_buffers_allocated();
     if (o.headless) return run_script_headless(o);
     std::string mesh = pos.empty() ? "" : pos[0], sol = pos.size() > 1 ? pos[1] : "";
     if (mesh.empty() && !script_mode) {

@@ -22,6 +22,10 @@ struct ScriptOptions {
   // The window's frame cap and, for the measures, a report of frame times
   // while the adaptation runs (printed on stderr after each run).
   double max_fps = 60;
+  // --frame-stats: the window prints its frame times at exit (frames, mean,
+  // slowest, and the slowest while a metric is built, a pass runs or the G1
+  // surface is built); a script's `frame-stats` line prints them too.
+  bool frame_stats = false;
 };
 
 // Runs a script headless (OSMesa); returns 0, or prints "FILE:LINE: ..." on

@@ -32,6 +32,8 @@ int run_script_headless(const ScriptOptions& o) {
   render::Scene scene;
   render::UiState ui;
   EditorView ev;
+  ev.set_synchronous(true);  // every picture shows the G1 surface it asks for
+  panels.view = &ev;
   std::unique_ptr<render::HeadlessRenderer> renderer;
   const int W = o.width, H = o.height;
   const float aspect = static_cast<float>(W) / static_cast<float>(H);
@@ -42,6 +44,7 @@ int run_script_headless(const ScriptOptions& o) {
   host.screenshot = [&](const std::string& png) {
     const auto t0 = std::chrono::steady_clock::now();
     session.wait();
+    session.analysis();  // the Analysis panel shows the displayed state's
     if (view.color == "distance") session.distance();  // the colours of the state shown, measured
     if (!renderer) renderer = std::make_unique<render::HeadlessRenderer>(W, H);
     const bool fit = view.fit_request || view.frame_selection || view.view_request.has_value();

@@ -1,5 +1,9 @@
 #include "editor/editor_view.h"
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -7,8 +11,6 @@
 #include <cstdio>
 
 #include "geometry/normals.h"
-#include "render/bezier_structure.h"
-
 namespace anisurf::editor {
 
 namespace {
@@ -122,14 +124,53 @@ bool EditorView::has_distance() const {
   return false;
 }
 
-void EditorView::add_distance(const SurfaceDistance& d) {
-  render::ScalarQuantity q = render::vertex_quantity(mesh_, render::quantity::kDistance, d.vertex);
+namespace {
+
+// The "distance to input" quantity of a mesh structure.
+void add_distance_to(render::MeshStructure& ms, const SurfaceDistance& d) {
+  render::ScalarQuantity q = render::vertex_quantity(ms, render::quantity::kDistance, d.vertex);
   q.colormap = render::Colormap::Viridis;
   q.range_min = 0.0f;
   q.range_max = distance_range_top(q, d);
   q.percent_of = static_cast<float>(d.reference_diagonal);
   q.note = distance_note(d);
-  mesh_.structure.scalars.push_back(std::move(q));
+  ms.structure.scalars.push_back(std::move(q));
+}
+
+// The structure of a state (the body of a mesh build, in its thread): the
+// mesh with its metric's quantities, the colour ranges `kept` (by quantity
+// name), the placements, the touched vertices and the distance to T_G.
+render::MeshStructure build_mesh(const Snapshot& snap, const SurfaceDistance* distance,
+                                 const std::vector<std::pair<std::string, std::array<float, 2>>>& kept, bool show_touched) {
+  SurfaceMesh m = snap.mesh;
+  set_metric_field(m, snap.metric, "metric");
+  render::MeshStructureOptions o;
+  o.metric_field = "metric";
+  render::MeshStructure ms = render::make_mesh_structure(m, kMeshName, o);
+  for (auto& q : ms.structure.scalars)
+    for (const auto& [name, r] : kept)
+      if (q.name == name) q.range_min = r[0], q.range_max = r[1];
+  ms.structure.categories.push_back(placement_categories(ms, snap));
+  // The vertices the displayed pass created, kept or moved.
+  if (snap.has_report && !snap.report.touched.empty()) {
+    render::Markers mk{"touched by the pass", {}, {1.0f, 0.55f, 0.0f}, 3.0f, show_touched};
+    if (snap.report.touched.size() > 3000) mk.radius_px = 1.8f;  // dense: dots
+    std::vector<char> seen(ms.draw_vertex.size(), 0);
+    for (int v : snap.report.touched)
+      if (v >= 0 && v < static_cast<int>(ms.draw_vertex.size()) && ms.draw_vertex[v] >= 0 && !seen[v]) {
+        seen[v] = 1;
+        mk.positions.push_back(ms.structure.geometry.positions[static_cast<std::size_t>(ms.draw_vertex[v])]);
+      }
+    ms.structure.markers.push_back(std::move(mk));
+  }
+  if (distance) add_distance_to(ms, *distance);
+  return ms;
+}
+
+}  // namespace
+
+void EditorView::add_distance(const SurfaceDistance& d) {
+  add_distance_to(mesh_, d);
   mesh_.structure.version = ++counter_;
 }
 
@@ -149,64 +190,119 @@ EditorView::NextState EditorView::next_to_show(EditorSession& session, const Vie
   return {shown_, nullptr};
 }
 
+EditorView::~EditorView() {
+  if (bezier_job_.valid()) bezier_job_.wait();
+  if (mesh_job_.valid()) mesh_job_.wait();
+}
+
 bool EditorView::settled(const EditorSession& session, const ViewState& view) const {
   const auto displayed = session.display().snapshot;
+  if (displayed && (shown_ != displayed || mesh_job_.valid())) return false;
+  if (view.bezier > 0 && displayed && !bezier_current(view)) return false;
   if (view.color != "distance" || !displayed || !session.distance_error().empty()) return true;
   return shown_ == displayed && has_distance();
 }
 
-void EditorView::rebuild_mesh(const ViewState& view, const EditorSession& session, const SurfaceDistance* distance) {
-  const auto t0 = std::chrono::steady_clock::now();
-  SurfaceMesh m = shown_->mesh;
-  set_metric_field(m, shown_->metric, "metric");
-  render::MeshStructureOptions o;
-  o.metric_field = "metric";
+bool EditorView::bezier_current(const ViewState& view) const {
+  return bezier_ && bezier_k_ == view.bezier && bezier_of_ == shown_ && bezier_epoch_ == net_epoch_;
+}
+
+double EditorView::bezier_build_seconds() const {
+  if (!bezier_job_.valid()) return 0;
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - bezier_job_start_).count();
+}
+
+void EditorView::start_mesh(const ViewState& view, const EditorSession& session, const NextState& next) {
   // Metric edits on the same input keep the colour ranges (so painting
   // changes the colours only where it changes the metric); another mesh, a
   // pass or a new file take the ranges of their data.
   std::vector<std::pair<std::string, std::array<float, 2>>> kept;
-  const bool keep = kept_for_ == session.opened() && !shown_->has_report && kept_initial_ &&
+  const bool keep = kept_for_ == session.opened() && !next.snapshot->has_report && kept_initial_ &&
                     kept_settings_ == session.settings();
   if (keep)
     for (const auto& q : mesh_.structure.scalars) kept.push_back({q.name, {q.range_min, q.range_max}});
-  mesh_ = render::make_mesh_structure(m, kMeshName, o);
-  for (auto& q : mesh_.structure.scalars)
-    for (const auto& [name, r] : kept)
-      if (q.name == name) q.range_min = r[0], q.range_max = r[1];
-  kept_for_ = session.opened();
-  kept_initial_ = !shown_->has_report;
-  kept_settings_ = session.settings();
-  mesh_.structure.categories.push_back(placement_categories(mesh_, *shown_));
-  mesh_.structure.version = ++counter_;
-  // The vertices the displayed pass created, kept or moved.
-  if (shown_->has_report && !shown_->report.touched.empty()) {
-    render::Markers mk{"touched by the pass", {}, {1.0f, 0.55f, 0.0f}, 3.0f, view.show_touched};
-    if (shown_->report.touched.size() > 3000) mk.radius_px = 1.8f;  // dense: dots
-    std::vector<char> seen(mesh_.draw_vertex.size(), 0);
-    for (int v : shown_->report.touched)
-      if (v >= 0 && v < static_cast<int>(mesh_.draw_vertex.size()) && mesh_.draw_vertex[v] >= 0 && !seen[v]) {
-        seen[v] = 1;
-        mk.positions.push_back(mesh_.structure.geometry.positions[static_cast<std::size_t>(mesh_.draw_vertex[v])]);
-      }
-    mesh_.structure.markers.push_back(std::move(mk));
-  }
-  if (distance) add_distance(*distance);
-  build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  mesh_job_of_ = next.snapshot;
+  mesh_job_opened_ = session.opened();
+  mesh_job_settings_ = session.settings();
+  mesh_job_ = std::async(std::launch::async, [snap = next.snapshot, distance = next.distance, kept = std::move(kept),
+                                              touched = view.show_touched] {
+    // At the window's priority: the pass is on screen once it is built.
+    const auto t0 = std::chrono::steady_clock::now();
+    MeshBuilt b;
+    b.structure = build_mesh(*snap, distance.get(), kept, touched);
+    b.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return b;
+  });
 }
 
-void EditorView::rebuild_bezier(const ViewState& view) {
-  bezier_.reset();
-  if (view.bezier <= 0 || !shown_) return;
-  SurfaceMesh m = shown_->mesh;  // tags as T_1 carries them
-  const BezierSurface surface(m, compute_frames(m));
+bool EditorView::collect_mesh() {
+  if (!mesh_job_.valid() || mesh_job_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return false;
+  MeshBuilt b = mesh_job_.get();
+  mesh_ = std::move(b.structure);
+  mesh_.structure.version = ++counter_;
+  build_seconds_ = b.seconds;
+  shown_ = std::move(mesh_job_of_);
+  mesh_job_of_.reset();
+  shown_opened_ = mesh_job_opened_;
+  kept_for_ = mesh_job_opened_;
+  kept_initial_ = !shown_->has_report;
+  kept_settings_ = mesh_job_settings_;
+  return true;
+}
+
+int EditorView::bezier_samples(int requested, int triangles) {
+  int k = std::max(requested, 1);
+  while (k > 1 && static_cast<long long>(k) * k * triangles > kBezierMaxTriangles) --k;
+  return k;
+}
+
+void EditorView::start_bezier(const ViewState& view, const render::Scene& scene) {
+  bezier_job_of_ = shown_;
+  bezier_job_k_ = view.bezier;
+  bezier_job_sampled_k_ = bezier_samples(view.bezier, shown_->mesh.n_triangles());
+  bezier_job_epoch_ = net_epoch_;
+  bezier_job_start_ = std::chrono::steady_clock::now();
   render::BezierStructureOptions bo;
-  bo.k = view.bezier;
+  bo.k = bezier_job_sampled_k_;
   bo.control_net = view.control_net;
-  bo.patch_edges = true;  // the wireframe toggle shows them (not the sub-triangles)
-  bezier_ = render::make_bezier_structure(m, surface, kBezierName, bo);
+  // The wireframe toggle shows them (not the sub-triangles); sampled once per
+  // triangle, the sub-triangles are the patches and the shader draws them.
+  bo.patch_edges = bezier_job_sampled_k_ > 1;
+  bo.net_max_patches = kNetMaxPatches;
+  // The net around the point of the mesh at the centre of the view (what
+  // the user looks at), else around the camera's target.
+  bo.net_centre = scene.camera.target;
+  if (const auto hit = render::pick(mesh_.structure.geometry, render::pixel_ray(scene.camera, 0.0f, 0.0f, 1, 1)))
+    bo.net_centre = hit->point;
+  // The snapshot is immutable and kept alive by the job.
+  bezier_job_ = std::async(std::launch::async, [of = shown_, bo] {
+    // Below the window's thread: it keeps drawing. Best effort.
+    setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 5);
+    const SurfaceMesh& m = of->mesh;  // tags as T_1 carries them
+    const BezierSurface surface(m, compute_frames(m));
+    BezierBuilt b;
+    b.structure = render::make_bezier_structure(m, surface, kBezierName, bo, &b.net);
+    return b;
+  });
+}
+
+bool EditorView::collect_bezier(const ViewState& view) {
+  if (!bezier_job_.valid() || bezier_job_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return false;
+  BezierBuilt b = bezier_job_.get();
+  std::shared_ptr<const Snapshot> of = std::move(bezier_job_of_);
+  bezier_job_of_.reset();
+  // A surface of an earlier state of the same mesh (a run went on
+  // meanwhile) is still shown until the current one is built; another
+  // sampling, a hidden surface or another opened mesh is dropped.
+  if (view.bezier != bezier_job_k_ || shown_opened_ != bezier_job_opened_) return false;
+  bezier_ = std::move(b.structure);
   bezier_->version = ++counter_;
-  bezier_k_ = view.bezier;
-  bezier_of_ = shown_.get();
+  bezier_k_ = bezier_job_k_;
+  bezier_sampled_k_ = bezier_job_sampled_k_;
+  bezier_of_ = std::move(of);
+  bezier_epoch_ = bezier_job_epoch_;
+  net_info_ = b.net;
+  return true;
 }
 
 void EditorView::update(EditorSession& session, ViewState& view, render::Scene& scene, float aspect, float reserve_left,
@@ -229,17 +325,22 @@ void EditorView::update(EditorSession& session, ViewState& view, render::Scene& 
       view.view_request = session.input().dimension() == 2 ? render::NamedView::Front : render::NamedView::Iso;
   }
   // With the distance colours, a state is shown once its distance to T_G is
-  // measured (in the session's measuring thread; see next_to_show()).
-  if (d.snapshot != shown_ && !throttled) {
+  // measured (in the session's measuring thread; see next_to_show()). Its
+  // structure is built in a thread of its own, one at a time: the state
+  // shown so far stays until it is ready.
+  structures_changed |= collect_mesh();
+  if (d.snapshot != shown_ && !throttled && !mesh_job_.valid()) {
     const NextState next = next_to_show(session, view, d.snapshot);
     if (next.snapshot != shown_) {
       last_rebuild_ = now;
-      shown_ = next.snapshot;
-      shown_opened_ = session.opened();
-      rebuild_mesh(view, session, next.distance.get());
-      structures_changed = true;
+      start_mesh(view, session, next);
+      if (synchronous_) {
+        mesh_job_.wait();
+        structures_changed |= collect_mesh();
+      }
     }
   }
+  if (!shown_) return;  // the first structure is being built
   // The distance colours chosen while a state is shown: added once measured.
   if (view.color == "distance" && shown_ && !has_distance()) {
     session.request_distance(shown_);
@@ -260,13 +361,24 @@ void EditorView::update(EditorSession& session, ViewState& view, render::Scene& 
     structures_changed = true;
   }
   const bool want_bezier = view.bezier > 0;
-  if (want_bezier && (!bezier_ || bezier_k_ != view.bezier || bezier_of_ != shown_.get())) {
-    rebuild_bezier(view);
-    structures_changed = true;
-  }
-  if (!want_bezier && bezier_) {
-    bezier_.reset();
-    structures_changed = true;
+  if (want_bezier) {
+    structures_changed |= collect_bezier(view);
+    // A build is started for the state shown, once its structure is.
+    if (!bezier_current(view) && !bezier_job_.valid()) {
+      start_bezier(view, scene);
+      bezier_job_opened_ = shown_opened_;
+      if (synchronous_) {
+        bezier_job_.wait();
+        structures_changed |= collect_bezier(view);
+      }
+    }
+  } else {
+    collect_bezier(view);  // a build in progress is dropped once done
+    if (bezier_) {
+      bezier_.reset();
+      bezier_of_.reset();
+      structures_changed = true;
+    }
   }
 
   // Scene: the G1 surface (when shown) replaces the mesh's faces; the mesh
@@ -294,13 +406,18 @@ void EditorView::update(EditorSession& session, ViewState& view, render::Scene& 
       for (auto& mk : s.markers) mk.enabled = mk.name == "touched by the pass" ? view.show_touched : view.features;
     } else if (s.name == kBezierName) {
       s.activate(view.color == "deviation" ? render::quantity::kDeviation : "");
-      for (auto& c : s.curves) c.enabled = c.name == "patch edges" ? view.wireframe : view.control_net;
+      // Sampled once per triangle, the sub-triangles are the patches: the
+      // shader's wireframe draws their edges (far cheaper than as curves).
+      for (auto& c : s.curves)
+        c.enabled = c.name == "patch edges" ? view.wireframe && bezier_sampled_k_ > 1 : view.control_net;
       for (auto& mk : s.markers) mk.enabled = mk.name == "touched by the pass" ? view.show_touched : view.control_net;
       for (auto& g : s.glyphs) g.enabled = view.glyphs;
     }
   }
-  scene.display.wireframe = view.wireframe && !bezier_;
+  scene.display.wireframe = view.wireframe && (!bezier_ || bezier_sampled_k_ == 1);
 
+  // Camera requests wait for the opened mesh's structure (a fit needs it).
+  if (shown_opened_ != session.opened()) return;
   if (view.view_request) {
     scene.camera.set_view(*view.view_request);
     view.view_request.reset();

@@ -262,6 +262,70 @@ void save_recent(const PanelState& p) {
   }
 }
 
+// Frame times, the responsiveness measure: the work of each frame from its
+// events to the swap (the sleep of the frame cap excluded), overall and
+// while each kind of background work goes on, with the slowest frame and
+// what went on then.
+struct FrameStats {
+  enum Activity { Metric, Pass, Bezier, kActivities };
+  // Where a frame's time went: events and the script's line, the view's
+  // update (structures collected, the scene composed), drawing the scene,
+  // the panels, the swap.
+  enum Part { Events, Update, Draw, Panels, Swap, kParts };
+  static constexpr const char* kPartNames[kParts] = {"events and script", "view update", "scene drawing", "panels (and a screenshot)",
+                                                     "swap"};
+  double slowest_parts[kParts] = {};
+  static constexpr const char* kNames[kActivities] = {"a metric is built", "a pass runs", "the G1 surface is built"};
+  int frames = 0;
+  double total = 0, slowest = 0;
+  std::string slowest_during;
+  int active_frames[kActivities] = {};
+  double active_slowest[kActivities] = {};
+  bool skip_current = false;  // a reset during this frame: it is not counted
+
+  void add(double dt, const bool (&active)[kActivities], const double (&parts)[kParts]) {
+    if (skip_current) {
+      skip_current = false;
+      return;
+    }
+    ++frames;
+    total += dt;
+    std::string during;
+    for (int i = 0; i < kActivities; ++i)
+      if (active[i]) {
+        ++active_frames[i];
+        active_slowest[i] = std::max(active_slowest[i], dt);
+        during += (during.empty() ? "" : ", ") + std::string(kNames[i]);
+      }
+    if (dt > slowest) {
+      slowest = dt;
+      slowest_during = during.empty() ? "nothing in the background" : during;
+      std::copy(std::begin(parts), std::end(parts), std::begin(slowest_parts));
+    }
+  }
+  void reset() {
+    *this = FrameStats{};
+    skip_current = true;
+  }
+  void print() const {
+    std::fprintf(stderr, "frame stats: %d frames, mean %.1f ms, slowest %.1f ms (while %s)\n", frames,
+                 frames ? 1000 * total / frames : 0.0, 1000 * slowest, slowest_during.c_str());
+    if (frames > 0) {
+      std::string parts;
+      for (int i = 0; i < kParts; ++i) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%s%s %.0f ms", i ? ", " : "", kPartNames[i], 1000 * slowest_parts[i]);
+        parts += buf;
+      }
+      std::fprintf(stderr, "frame stats: the slowest frame: %s\n", parts.c_str());
+    }
+    for (int i = 0; i < kActivities; ++i)
+      if (active_frames[i] > 0)
+        std::fprintf(stderr, "frame stats: while %s: %d frames, slowest %.1f ms\n", kNames[i], active_frames[i],
+                     1000 * active_slowest[i]);
+  }
+};
+
 struct GlfwLib {
   GlfwLib() {
     if (!glfwInit()) {
@@ -295,6 +359,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
   glfwSwapInterval(1);
 
   App a;
+  a.panels.view = &a.ev;
   glfwSetWindowUserPointer(window, &a);
   glfwSetMouseButtonCallback(window, on_mouse_button);
   glfwSetCursorPosCallback(window, on_cursor);
@@ -350,6 +415,11 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
   ScriptHost host;
   host.screenshot = [&](const std::string& p) { pending_shot = p; };
   host.quit = [&] { quit = true; };
+  FrameStats frame_stats;
+  host.frame_stats = [&](bool reset) { reset ? frame_stats.reset() : frame_stats.print(); };
+  // As the Metric panel: built in the background, the next line played once installed.
+  host.set_settings = [&](const MetricSettings& m) { a.session.request_metric(m, true); };
+  const ScriptLine* metric_line = nullptr;  // the line whose metric is being built
   a.panels.screenshot = [&](const std::string& p) { pending_shot = p; };
   auto last_autosave = Clock::now();
 
@@ -368,10 +438,12 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
 
   for (int frame = 0; !glfwWindowShouldClose(window) && !quit; ++frame) {
     const auto frame_start = Clock::now();
-    const bool busy = a.session.running() || a.session.measuring() || !a.ev.settled(a.session, a.view) ||
-                      next_line < script.size() || !pending_shot.empty();
+    const bool busy = a.session.running() || a.session.measuring() || a.session.metric_building() ||
+                      a.ev.bezier_building() || !a.ev.settled(a.session, a.view) || next_line < script.size() ||
+                      !pending_shot.empty();
     release_held_keys(window, a);
-    if (!busy && frame_start - a.last_event > std::chrono::seconds(1))
+    // Measured frames never wait for events (the wait would count as work).
+    if (!busy && !o.frame_stats && frame_start - a.last_event > std::chrono::seconds(1))
       glfwWaitEventsTimeout(0.25);
     else
       glfwPollEvents();
@@ -379,14 +451,25 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     a.session.poll();
     if (a.panels.quit_confirmed) glfwSetWindowShouldClose(window, GLFW_TRUE);
 
-    // The script: the next line once the adaptation is idle and the last
-    // screenshot is written.
+    // The script: the next line once the adaptation is idle, the metric of
+    // the last metric line installed, the G1 surface asked for built and the
+    // last screenshot written.
+    if (metric_line && !a.session.metric_building()) {
+      if (const std::string err = a.session.apply_error(); !err.empty()) {
+        std::cerr << "anisurf: " << metric_line->where() << ": " << metric_line->words[0] << ": " << err << "\n";
+        exit_code = 1;
+        break;
+      }
+      metric_line = nullptr;
+    }
     const bool shown_latest = a.ev.shown() == a.session.display().snapshot.get();
-    if (next_line < script.size() && !a.session.running() && pending_shot.empty() && shown_latest) {
+    const bool background_done = !metric_line && (a.view.bezier == 0 || a.ev.bezier_current(a.view));
+    if (next_line < script.size() && !a.session.running() && pending_shot.empty() && shown_latest && background_done) {
       const ScriptLine& line = script[next_line++];
       try {
         if (const std::string err = a.session.adaptation_error(); !err.empty()) throw Error(err);
         execute(line, a.session, a.view, host);
+        if (a.session.metric_building()) metric_line = &line;
         if (line.words[0] == "open") {
           a.panels.open_path = line.words[1];
           a.panels.draft.valid = false;
@@ -404,7 +487,9 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     if (fbw <= 0 || fbh <= 0) continue;
     const float aspect = static_cast<float>(fbw) / static_cast<float>(fbh);
     if (frame == 3 && !a.view.frame_selection) a.view.fit_request = true;  // panel widths known now
+    const auto t_events = Clock::now();
     a.ev.update(a.session, a.view, a.scene, aspect, a.ui.left_reserve(fbw), a.ui.right_reserve(fbw));
+    const auto t_update = Clock::now();
     // Hover: the element under the mouse (not while dragging, nor while a
     // script plays: its screenshots show no tooltip).
     a.panels.hover.reset();
@@ -416,6 +501,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     // One sample per pixel while the camera moves or the adaptation runs.
     const bool moving = a.rotating || a.panning || a.session.running();
     renderer.render(a.scene, fbw, fbh, moving ? 1 : a.scene.display.msaa_samples);
+    const auto t_draw = Clock::now();
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
@@ -423,7 +509,8 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     // A screenshot waits for the distance colours of the state shown.
-    if (!pending_shot.empty() && a.ev.settled(a.session, a.view) && --shots_waiting_frames <= 0) {
+    if (!pending_shot.empty() && a.ev.settled(a.session, a.view) && (!a.session.has_mesh() || a.session.analysis_current()) &&
+        --shots_waiting_frames <= 0) {
       render::Image img(fbw, fbh);
       gl::glPixelStorei(GL_PACK_ALIGNMENT, 1);
       gl::glReadPixels(0, 0, fbw, fbh, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
@@ -440,6 +527,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
       }
       pending_shot.clear();
     }
+    const auto t_panels = Clock::now();
     glfwSwapBuffers(window);
 
     // Statistics and autosave.
@@ -457,15 +545,27 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     if (awaiting_first && a.ev.shown() != shown_at_start) {
       first_shown = std::chrono::duration<double>(now - run_start).count();
       awaiting_first = false;
-      std::fprintf(stderr, "adaptation: first pass on screen %.3f s after the start (its pass %.3f s, view rebuild %.3f s)\n",
-                   first_shown, a.ev.shown() && a.ev.shown()->has_report ? a.ev.shown()->report.seconds : 0.0,
-                   a.ev.last_build_seconds());
+      std::fprintf(stderr,
+                   "adaptation: first pass on screen %.3f s after the start (the remesher's setup %.3f s, its pass %.3f s, "
+                   "its snapshot %.3f s, the view's structure %.3f s)\n",
+                   first_shown, a.session.last_setup_seconds(),
+                   a.ev.shown() && a.ev.shown()->has_report ? a.ev.shown()->report.seconds : 0.0,
+                   a.session.last_snapshot_seconds(), a.ev.last_build_seconds());
     }
     if (running) {
       ++run_frames;
       run_worst = std::max(run_worst, dt);
     }
+    const bool active[FrameStats::kActivities] = {a.session.metric_building(), running, a.ev.bezier_building()};
+    using Seconds = std::chrono::duration<double>;
+    const double parts[FrameStats::kParts] = {Seconds(t_events - frame_start).count(), Seconds(t_update - t_events).count(),
+                                              Seconds(t_draw - t_update).count(), Seconds(t_panels - t_draw).count(),
+                                              Seconds(now - t_panels).count()};
+    frame_stats.add(dt, active, parts);
     if (!running && was_running) {
+      if (const auto asked = a.session.stop_requested())
+        std::fprintf(stderr, "adaptation: stopped %.3f s after the pause or cancel was asked\n",
+                     std::chrono::duration<double>(now - *asked).count());
       run_seconds = std::chrono::duration<double>(now - run_start).count();
       const auto tl = a.session.timeline();
       std::fprintf(stderr,
@@ -497,6 +597,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     write_autosave(a, autosave);
     save_recent(a.panels);
   }
+  if (o.frame_stats) frame_stats.print();
   a.session.pause();
   a.session.wait();
   return exit_code;

@@ -171,10 +171,7 @@ void file_panel(EditorSession& s, ViewState& v, PanelState& p) {
 // --- Metric ---------------------------------------------------------------------
 void metric_panel(EditorSession& s, PanelState& p) {
   if (!ImGui::CollapsingHeader("Metric", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  if (p.draft.follow(s.settings())) {
-    p.preview_vertices = s.predicted_vertices();
-    p.preview_error.clear();
-  }
+  if (p.draft.follow(s.settings())) p.preview_due.reset();
   MetricSettings& e = p.draft.edit;
   bool changed = false, commit = false;
   int src = static_cast<int>(e.source);
@@ -237,23 +234,39 @@ void metric_panel(EditorSession& s, PanelState& p) {
   track(ImGui::InputDouble("max anisotropy (0: none)", &aniso, 0, 0, "%.4g"));
   e.hmax = hmax > 0 ? hmax : INFINITY;
   e.max_aniso = aniso >= 1 ? aniso : INFINITY;
-  const bool small = s.has_mesh() && s.input().n_vertices() < 50000;
-  if (changed && small) {  // live preview of the vertex count
-    try {
-      p.preview_vertices = s.predict_vertices(e);
-      p.preview_error.clear();
-    } catch (const std::exception& ex) {
-      p.preview_error = ex.what();
-    }
+  // The preview once the fields are still; the commit at once. Both build
+  // in the background: the view keeps showing the current metric.
+  const auto now = std::chrono::steady_clock::now();
+  if (changed) p.preview_due = now + PanelState::kPreviewDelay;
+  if (s.has_mesh() && p.preview_due && now >= *p.preview_due) {
+    p.preview_due.reset();
+    s.request_metric(e, false);  // throws only without a mesh
   }
   if (commit && s.has_mesh() && !(e == s.settings())) {
-    act(p, "metric updated", [&] { s.set_settings(e); });
-    p.preview_vertices = s.predicted_vertices();
-    p.preview_error = p.message_is_error ? p.message : "";
+    p.preview_due.reset();
+    s.request_metric(e, true);  // the line below says it builds; an error shows under the fields
   }
-  if (!p.preview_error.empty())
-    ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1), "%s", p.preview_error.c_str());
-  ImGui::Text("predicted vertices: %.0f", e == s.settings() ? s.predicted_vertices() : p.preview_vertices);
+  if (s.metric_building()) {
+    // An indeterminate progress: the engine reports none while it builds.
+    static const char* spin[] = {"|", "/", "-", "\\"};
+    const int phase = static_cast<int>(ImGui::GetTime() * 8.0) % 4;
+    ImGui::TextColored(ImVec4(0.15f, 0.35f, 0.75f, 1), "%s building the metric (%s%s)... %.1f s", spin[phase],
+                       source_name(s.metric_build_of().source), s.metric_build_applies() ? "" : ", preview",
+                       s.metric_build_seconds());
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("The metric is built in the background; the view shows the current one until it is ready.\n"
+                        "A newer edit supersedes it (its result is then not installed).");
+  }
+  const std::string error = s.has_mesh() ? s.metric_error(e) : std::string();
+  if (!error.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.8f, 0.1f, 0.1f, 1));
+    ImGui::TextWrapped("%s", error.c_str());
+    ImGui::PopStyleColor();
+  }
+  if (const auto predicted = s.has_mesh() ? s.preview(e) : std::optional<double>())
+    ImGui::Text("predicted vertices: %.0f", *predicted);
+  else if (error.empty())
+    ImGui::TextDisabled("predicted vertices: (building)");
   if (s.has_mesh()) ImGui::TextDisabled("(input: %d vertices)", s.input().n_vertices());
 }
 
@@ -520,7 +533,10 @@ void distance_section(EditorSession& s, ViewState& v, PanelState& p) {
 
 void analysis_panel(EditorSession& s, ViewState& v, PanelState& p) {
   if (!s.has_mesh()) return;
-  const Analysis& a = s.analysis();
+  const Analysis* latest = s.latest_analysis();
+  if (!latest) return;
+  const Analysis& a = *latest;
+  if (!s.analysis_current()) ImGui::TextDisabled("(an earlier state: the one shown is being analysed)");
   const Selection& sel = s.selection();
   ImGui::TextUnformatted("edge length in the metric");
   ImGui::TextDisabled("min %.3f  mean %.3f  max %.3f", a.length_min, a.length_mean, a.length_max);
@@ -545,7 +561,7 @@ void analysis_panel(EditorSession& s, ViewState& v, PanelState& p) {
   }
 }
 
-void bezier_panel(ViewState& v) {
+void bezier_panel(ViewState& v, PanelState& p) {
   if (!ImGui::CollapsingHeader("G1 surface")) return;
   bool show = v.bezier > 0;
   if (ImGui::Checkbox("show the G1 Bezier surface", &show)) {
@@ -558,6 +574,36 @@ void bezier_panel(ViewState& v) {
     ImGui::Checkbox("control net", &v.control_net);
     bool dev = v.color == "deviation";
     if (ImGui::Checkbox("colour by deviation mesh - surface", &dev)) v.color = dev ? "deviation" : "size";
+    if (p.view && p.view->bezier_building()) {
+      static const char* spin[] = {"|", "/", "-", "\\"};
+      const int phase = static_cast<int>(ImGui::GetTime() * 8.0) % 4;
+      ImGui::TextColored(ImVec4(0.15f, 0.35f, 0.75f, 1), "%s building the G1 surface... %.1f s", spin[phase],
+                         p.view->bezier_build_seconds());
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Built in the background; the view shows what it showed before until it is ready.");
+    }
+    if (p.view && p.view->bezier_k() > 0 && p.view->bezier_k() < v.bezier) {
+      ImGui::TextDisabled("drawn with k = %d (at most %d sub-triangles)", p.view->bezier_k(), EditorView::kBezierMaxTriangles);
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("At most %d sub-triangles are drawn (k^2 per triangle), so that the surface draws\n"
+                          "about as fast as the mesh: k is lowered on a mesh this large.",
+                          EditorView::kBezierMaxTriangles);
+    }
+    if (p.view && v.control_net && p.view->bezier_k() > 0) {
+      const render::BezierNetInfo& n = p.view->net_info();
+      if (n.shown < n.patches) {
+        ImGui::TextDisabled("control net of %d of %d patches", n.shown, n.patches);
+        if (ImGui::IsItemHovered())
+          ImGui::SetTooltip("The net of every patch would be about %d lines: it is drawn for the %d patches\n"
+                            "around the point at the centre of the view when the surface was built.",
+                            static_cast<int>(render::control_net_edges().size()) * n.patches, n.shown);
+        ImGui::SameLine();
+        if (ImGui::SmallButton("re-centre")) p.view->recentre_net();
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("Build the net again around the point at the centre of the view");
+      } else {
+        ImGui::TextDisabled("control net of all %d patches", n.patches);
+      }
+    }
   } else if (v.color == "deviation") {
     v.color = "size";
   }
@@ -855,13 +901,14 @@ void draw_panels(EditorSession& session, ViewState& view, PanelState& panels, re
     metric_panel(session, panels);
     brush_panel(session, view, panels);
     adaptation_panel(session, view, panels);
-    bezier_panel(view);
+    bezier_panel(view, panels);
     display_panel(view, scene);
     ui.panel_width = ImGui::GetWindowPos().x + ImGui::GetWindowWidth() + 8.0f;
   }
   ImGui::End();
-  // The analysis on the right, above the legend.
-  if (session.has_mesh()) {
+  // The analysis on the right, above the legend (once there is one: the
+  // window takes its place from its first size).
+  if (session.has_mesh() && session.latest_analysis()) {
     ImGui::SetNextWindowPos(ImVec2(static_cast<float>(width) - 8.0f, 8.0f), ImGuiCond_FirstUseEver, ImVec2(1.0f, 0.0f));
     ImGui::SetNextWindowBgAlpha(0.90f);
     if (ImGui::Begin("Analysis", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings)) {

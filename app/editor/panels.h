@@ -4,6 +4,7 @@
 // autosave offered at start). They read the session and call its actions; they own only
 // UI state (text fields, recent files, messages).
 #pragma once
+#include <chrono>
 #include <functional>
 #include <optional>
 #include <string>
@@ -68,10 +69,16 @@ struct PanelState {
   std::string autosave_path, autosave_error;
   std::vector<AutosaveEntry> autosaves;
   std::optional<AutosaveEntry> offer;
-  // Metric panel: the settings being edited.
+  // Metric panel: the settings being edited. An edit asks for their
+  // predicted vertex count once the fields have been still for
+  // kPreviewDelay (the metric is built in the background:
+  // EditorSession::request_metric); a commit asks for the metric itself.
   SettingsDraft draft;
-  double preview_vertices = 0;
-  std::string preview_error;
+  static constexpr std::chrono::milliseconds kPreviewDelay{250};
+  std::optional<std::chrono::steady_clock::time_point> preview_due;
+  // The view (for the G1 surface's state: built in the background, the
+  // patches its control net shows); null: not shown.
+  EditorView* view = nullptr;
   std::function<void(const std::string&)> screenshot;  // writes a PNG of the window
 };
 

@@ -150,7 +150,7 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
     } else {
       throw LineError{"metric: unknown source '" + kind + "' (iso, size, hessian, curvature, sol)"};
     }
-    s.set_settings(m);
+    host.set_settings ? host.set_settings(m) : s.set_settings(m);
   } else if (cmd == "hgrad" || cmd == "hmin" || cmd == "hmax" || cmd == "max-aniso" || cmd == "hausd") {
     need_mesh();
     arity(l, 1, 1, (cmd + " VALUE").c_str());
@@ -171,7 +171,7 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
       m.max_aniso = x >= 1 ? x : INFINITY;
     }
     if (cmd == "hmin" && x < 0) throw LineError{"hmin expects a size >= 0"};
-    s.set_settings(m);
+    host.set_settings ? host.set_settings(m) : s.set_settings(m);
   } else if (cmd == "lmin" || cmd == "lmax") {
     arity(l, 1, 1, (cmd + " L").c_str());
     const double x = number(l, 1, "L");
@@ -332,6 +332,11 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
     arity(l, 1, 2, "save MESH [SOL]");
     s.wait();
     s.save(l.words[1], l.words.size() > 2 ? l.words[2] : "");
+  } else if (cmd == "frame-stats") {
+    arity(l, 0, 1, "frame-stats [reset]");
+    if (l.words.size() > 1 && l.words[1] != "reset") throw LineError{"usage: frame-stats [reset]"};
+    if (!host.frame_stats) throw LineError{"frame-stats: the window's frame times (run the script without --headless)"};
+    host.frame_stats(l.words.size() > 1);
   } else if (cmd == "quit") {
     arity(l, 0, 0, "quit");
     if (host.quit) host.quit();
@@ -393,7 +398,10 @@ const char* script_help() {
          "                                         beyond the input bound, or off the surface)\n"
          "  glyphs on|off | wire on|off | touched on|off (vertices the shown pass touched)\n"
          "  bezier K|off | control-net on|off\n"
-         "  screenshot PNG | save MESH [SOL] | quit\n";
+         "  screenshot PNG | save MESH [SOL] | quit\n"
+         "  frame-stats [reset]                    the window's frame times since the start or\n"
+         "                                         the last reset: frames, mean, slowest (and\n"
+         "                                         what ran then); reset clears them\n";
 }
 
 }  // namespace anisurf::editor

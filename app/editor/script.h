@@ -12,6 +12,7 @@
 //   view NAME | color MODE | glyphs on|off | wire on|off
 //   bezier K|off | control-net on|off
 //   screenshot PNG | save MESH [SOL] | quit
+//   frame-stats [reset]   (the window only: the slowest frame so far)
 #pragma once
 #include <functional>
 #include <string>
@@ -40,6 +41,14 @@ std::vector<std::string> split_words(const std::string& text);
 struct ScriptHost {
   std::function<void(const std::string& png)> screenshot;
   std::function<void()> quit;
+  // `frame-stats`: prints the frame times since the start or the last
+  // `frame-stats reset` (reset: true clears them). Null: no frames (headless).
+  std::function<void(bool reset)> frame_stats;
+  // Metric settings from `metric ...`, `hgrad` ... lines: null applies them at
+  // once (EditorSession::set_settings); the window builds them in the
+  // background as its panel does (EditorSession::request_metric) and plays
+  // the next line once the metric is installed.
+  std::function<void(const MetricSettings&)> set_settings;
 };
 
 // Runs one line; throws Error("FILE:LINE: message") on a bad line or a

@@ -1,5 +1,9 @@
 #include "editor/session.h"
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -74,6 +78,8 @@ std::string source_line(const MetricSettings& s) {
 EditorSession::EditorSession() = default;
 
 EditorSession::~EditorSession() {
+  collect_analysis(true);
+  forget_metric_jobs();                             // a build reads T_0
   if (distance_job_.valid()) distance_job_.wait();  // it reads T_G
   retire_adaptation();
   wait_retired();
@@ -85,6 +91,15 @@ void EditorSession::log(const std::string& line) { journal_.push_back(line); }
 void EditorSession::changed() {
   ++version_;
   dirty_ = true;
+  changed_at_ = std::chrono::steady_clock::now();
+}
+
+std::unique_ptr<Adaptation> EditorSession::make_adaptation() const {
+  // The metric's chordal deviation (given or the geometry protection's)
+  // bounds the vertices and the output's distance as in `anisurf adapt`.
+  AdaptSettings a = adapt_settings_;
+  a.metric.hausd = effective_hausd(settings_);
+  return std::make_unique<Adaptation>(*input_, metric_, a, t0_snapshot_, geometry_, geometry_lock_, geometry_mesh_ == nullptr);
 }
 
 std::shared_ptr<const Snapshot> EditorSession::initial_snapshot() const {
@@ -147,13 +162,15 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
 
   retire_adaptation();
   wait_retired();  // their workers read the old mesh
-  if (geometry_.valid()) geometry_.wait();  // so does the old geometry's construction
+  forget_metric_jobs();  // so does a metric build
+  if (geometry_.valid()) geometry_.wait();  // and the old geometry's construction
   forget_distance();  // its measure reads the old T_G
   std::swap(input_, mesh);
   geometry_mesh_.reset();
   cycle_ = 0;
   metric_painted_ = false;
   geometry_ = start_geometry(*input_, adapt_settings_);
+  geometry_lock_ = std::make_shared<std::mutex>();
   vertex_origin_ = report.vertex_origin;
   mesh_path_ = mesh_path;
   forget_input_state();
@@ -202,6 +219,7 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
   log("open " + mesh_path + (sol_path.empty() ? "" : " " + sol_path));
   ++version_;
   dirty_ = false;
+  changed_at_ = std::chrono::steady_clock::now();
 }
 
 MetricRecipe EditorSession::metric_recipe(const MetricSettings& s, MetricField loaded) const {
@@ -286,7 +304,11 @@ void EditorSession::apply_metric(MetricField m, const MetricSettings& s, bool re
 void EditorSession::set_settings(const MetricSettings& s) {
   if (!input_) throw Error("no mesh: open one first");
   if (stroke_) end_stroke();
-  MetricField m = compute_metric(s);  // throws before anything changes
+  install_settings(s, compute_metric(s));  // throws before anything changes
+}
+
+void EditorSession::install_settings(const MetricSettings& s, MetricField m) {
+  if (stroke_) end_stroke();
   MetricEdit e;
   e.what = "metric " + std::string(source_name(s.source));
   e.settings_before = settings_;
@@ -296,6 +318,8 @@ void EditorSession::set_settings(const MetricSettings& s) {
     e.before.push_back(metric_[v.idx]);
     e.after.push_back(m[v.idx]);
   }
+  e.base_before = std::make_shared<const MetricField>(base_metric_);
+  e.base_after = std::make_shared<const MetricField>(m);
   base_metric_ = m;
   metric_painted_ = false;
   undo_.push_back(std::move(e));
@@ -308,6 +332,131 @@ void EditorSession::set_settings(const MetricSettings& s) {
   if (s.hmin != old.hmin) log("hmin " + num(s.hmin));
   if (s.hmax != old.hmax) log("hmax " + num(std::isinf(s.hmax) ? 0.0 : s.hmax));
   if (s.max_aniso != old.max_aniso) log("max-aniso " + num(std::isinf(s.max_aniso) ? 0.0 : s.max_aniso));
+}
+
+// --- the metric built in the background ---------------------------------------
+
+void EditorSession::request_metric(const MetricSettings& s, bool apply) {
+  if (!input_) throw Error("no mesh: open one first");
+  poll_metric();
+  if (apply) {
+    apply_error_.clear();
+    pending_apply_.reset();
+    // An apply in progress for other settings is superseded: built, not installed.
+    if (metric_job_.valid() && metric_job_apply_ && !(metric_job_of_ == s)) metric_job_apply_ = false;
+    if (s == settings_ && !metric_painted_) return;
+    if (built_of_ && *built_of_ == s) {
+      install_settings(s, MetricField(*built_));
+      return;
+    }
+    if (failed_of_ && *failed_of_ == s) {
+      apply_error_ = failed_error_;
+      return;
+    }
+    if (metric_job_.valid()) {
+      if (metric_job_of_ == s)
+        metric_job_apply_ = true;
+      else
+        pending_apply_ = s;
+      return;
+    }
+    start_metric_job(s, true);
+  } else {
+    pending_preview_.reset();
+    if ((built_of_ && *built_of_ == s) || (failed_of_ && *failed_of_ == s) || s == settings_) return;
+    if (metric_job_.valid()) {
+      if (!(metric_job_of_ == s)) pending_preview_ = s;
+      return;
+    }
+    start_metric_job(s, false);
+  }
+}
+
+void EditorSession::start_metric_job(const MetricSettings& s, bool apply) {
+  metric_job_of_ = s;
+  metric_job_apply_ = apply;
+  metric_job_start_ = std::chrono::steady_clock::now();
+  // The build reads T_0, its origin, its file and T_G: open() and
+  // next_cycle() wait for it (forget_metric_jobs()) before they change them.
+  metric_job_ = std::async(std::launch::async, [this, s] {
+    // Below the window's thread, as the adaptation's worker: the window keeps
+    // drawing. Best effort: ignored if refused.
+    setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 5);
+    Built b;
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      auto m = std::make_shared<const MetricField>(compute_metric(s));
+      b.predicted = anisurf::predicted_vertices(*input_, *m);
+      b.metric = std::move(m);
+    } catch (const std::exception& e) {
+      b.error = e.what();
+    }
+    b.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return b;
+  });
+}
+
+void EditorSession::poll_metric() {
+  if (metric_job_.valid() && metric_job_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+    Built b = metric_job_.get();
+    last_metric_seconds_ = b.seconds;
+    const MetricSettings s = metric_job_of_;
+    const bool apply = metric_job_apply_;
+    metric_job_apply_ = false;
+    if (b.metric) {
+      built_of_ = s;
+      built_ = std::move(b.metric);
+      built_predicted_ = b.predicted;
+      if (apply) install_settings(s, MetricField(*built_));
+    } else {
+      failed_of_ = s;
+      failed_error_ = b.error;
+      if (apply) apply_error_ = b.error;
+    }
+  }
+  if (metric_job_.valid()) return;
+  // The waiting requests: an apply first, then a preview.
+  if (pending_apply_) {
+    const MetricSettings s = *pending_apply_;
+    pending_apply_.reset();
+    if (built_of_ && *built_of_ == s)
+      install_settings(s, MetricField(*built_));
+    else
+      start_metric_job(s, true);
+  }
+  if (!metric_job_.valid() && pending_preview_) {
+    const MetricSettings s = *pending_preview_;
+    pending_preview_.reset();
+    if (!(built_of_ && *built_of_ == s) && !(failed_of_ && *failed_of_ == s)) start_metric_job(s, false);
+  }
+}
+
+void EditorSession::forget_metric_jobs() {
+  if (metric_job_.valid()) metric_job_.wait();
+  metric_job_ = {};
+  metric_job_apply_ = false;
+  pending_apply_.reset();
+  pending_preview_.reset();
+  built_of_.reset();
+  built_.reset();
+  failed_of_.reset();
+  failed_error_.clear();
+  apply_error_.clear();
+}
+
+double EditorSession::metric_build_seconds() const {
+  if (!metric_job_.valid()) return 0;
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - metric_job_start_).count();
+}
+
+std::optional<double> EditorSession::preview(const MetricSettings& s) const {
+  if (s == settings_) return predicted_vertices_;
+  if (built_of_ && *built_of_ == s) return built_predicted_;
+  return std::nullopt;
+}
+
+std::string EditorSession::metric_error(const MetricSettings& s) const {
+  return failed_of_ && *failed_of_ == s ? failed_error_ : std::string();
 }
 
 double EditorSession::predict_vertices(const MetricSettings& s) const {
@@ -464,7 +613,7 @@ bool EditorSession::undo() {
   undo_.pop_back();
   MetricField m = metric_;
   for (std::size_t i = 0; i < e.vertices.size(); ++i) m[e.vertices[i]] = e.before[i];
-  if (e.settings_before != e.settings_after) base_metric_ = compute_metric(e.settings_before);
+  if (e.settings_before != e.settings_after) base_metric_ = e.base_before ? *e.base_before : compute_metric(e.settings_before);
   const MetricSettings s = e.settings_before;
   redo_.push_back(std::move(e));
   apply_metric(std::move(m), s, true);
@@ -479,7 +628,7 @@ bool EditorSession::redo() {
   redo_.pop_back();
   MetricField m = metric_;
   for (std::size_t i = 0; i < e.vertices.size(); ++i) m[e.vertices[i]] = e.after[i];
-  if (e.settings_before != e.settings_after) base_metric_ = compute_metric(e.settings_after);
+  if (e.settings_before != e.settings_after) base_metric_ = e.base_after ? *e.base_after : compute_metric(e.settings_after);
   const MetricSettings s = e.settings_after;
   undo_.push_back(std::move(e));
   apply_metric(std::move(m), s, true);
@@ -496,18 +645,14 @@ void EditorSession::run(int max_passes) {
   if (stroke_) end_stroke();
   if (running()) return;
   poll();
-  wait_retired();  // they share the geometry (one search at a time)
-  if (!adaptation_) {
-    // The metric's chordal deviation (given or the geometry protection's)
-    // bounds the vertices and the output's distance as in `anisurf adapt`.
-    AdaptSettings a = adapt_settings_;
-    a.metric.hausd = effective_hausd(settings_);
-    adaptation_ = std::make_unique<Adaptation>(*input_, metric_, a, t0_snapshot_, geometry_, geometry_mesh_ == nullptr);
-  }
+  // A retired adaptation still at work holds the geometry: the new worker
+  // waits for it in its own thread (Adaptation's geometry lock).
+  if (!adaptation_) adaptation_ = make_adaptation();
   const std::size_t n = adaptation_->size();
   const std::size_t from = scrub_ >= 0 && static_cast<std::size_t>(scrub_) < n ? static_cast<std::size_t>(scrub_) : n - 1;
   run_start_ = from + 1;
   scrub_ = -1;
+  stop_requested_.reset();
   adaptation_->start(from, max_passes);
   log(max_passes == 1 ? "step" : max_passes > 0 ? "run " + std::to_string(max_passes) : "run");
   changed();
@@ -548,6 +693,7 @@ int EditorSession::next_cycle() {
   MetricField m = build_metric(*t1, recipe).metric;
   retire_adaptation();
   wait_retired();
+  forget_metric_jobs();  // a build reads the old T_0
   if (!geometry_mesh_) geometry_mesh_ = std::move(input_);  // geometry_ keeps reading it
   input_ = std::move(t1);
   vertex_origin_.clear();  // T_0 is no file's mesh any more
@@ -572,11 +718,14 @@ void EditorSession::set_band(double lmin, double lmax) {
 }
 
 void EditorSession::pause() {
-  if (adaptation_) adaptation_->request_stop();
+  if (!adaptation_) return;
+  if (adaptation_->running() && !stop_requested_) stop_requested_ = std::chrono::steady_clock::now();
+  adaptation_->request_stop();
 }
 
 void EditorSession::cancel() {
   if (!adaptation_) return;
+  if (adaptation_->running() && !stop_requested_) stop_requested_ = std::chrono::steady_clock::now();
   adaptation_->request_stop();
   cancel_pending_ = true;  // the timeline is cut once the worker is idle (poll())
   poll();
@@ -588,20 +737,27 @@ void EditorSession::retire_adaptation() {
   retired_.push_back(std::move(adaptation_));
   cancel_pending_ = false;
   scrub_ = -1;
+  changed_at_ = std::chrono::steady_clock::now();  // the next one is prepared once the session is still
   poll();
 }
 
 void EditorSession::wait_retired() { retired_.clear(); }  // each destructor joins its worker
 
 void EditorSession::poll() {
+  poll_metric();
   // Retired adaptations go once their worker has finished its pass.
-  std::erase_if(retired_, [](const std::unique_ptr<Adaptation>& a) { return !a->running(); });
+  std::erase_if(retired_, [](const std::unique_ptr<Adaptation>& a) { return !a->working(); });
   if (cancel_pending_ && adaptation_ && !adaptation_->running()) {
     adaptation_->wait();
     adaptation_->truncate(run_start_);
     cancel_pending_ = false;
     scrub_ = -1;
     ++version_;
+  }
+  if (input_ && !adaptation_ && !stroke_ && !metric_building() &&
+      std::chrono::steady_clock::now() - changed_at_ > kPrepareDelay) {
+    adaptation_ = make_adaptation();
+    adaptation_->prepare();
   }
 }
 
@@ -736,7 +892,29 @@ std::shared_ptr<const SurfaceDistance> EditorSession::last_distance(bool* of_dis
   return distance_;
 }
 
+void EditorSession::collect_analysis(bool wait) {
+  if (!analysis_job_.valid()) return;
+  if (!wait && analysis_job_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+  analysis_ = analysis_job_.get();
+  analysis_of_ = std::move(analysis_job_of_);
+  analysis_job_of_.reset();
+}
+
+const Analysis* EditorSession::latest_analysis() {
+  collect_analysis(false);
+  const DisplayState d = display();
+  if (d.snapshot && d.snapshot != analysis_of_ && !analysis_job_.valid()) {
+    analysis_job_of_ = d.snapshot;
+    // The snapshot is immutable and held by the job.
+    analysis_job_ = std::async(std::launch::async, [snap = d.snapshot] {
+      return analyze(snap->mesh, snap->metric);
+    });
+  }
+  return analysis_of_ ? &analysis_ : nullptr;
+}
+
 const Analysis& EditorSession::analysis() {
+  collect_analysis(true);
   const DisplayState d = display();
   if (d.snapshot && d.snapshot != analysis_of_) {
     analysis_ = analyze(d.snapshot->mesh, d.snapshot->metric);

@@ -7,6 +7,7 @@
 // changes the session appends the equivalent script line to journal() (the
 // autosave replays it).
 #pragma once
+#include <chrono>
 #include <future>
 #include <limits>
 #include <memory>
@@ -70,6 +71,9 @@ struct MetricEdit {
   std::vector<int> vertices;
   std::vector<SymTensor3> before, after;
   MetricSettings settings_before, settings_after;
+  // A change of settings: the settings' fields before and after (undo and
+  // redo restore them without building them again).
+  std::shared_ptr<const MetricField> base_before, base_after;
 };
 
 // What the view shows: the mesh, its metric and the pass that produced it.
@@ -124,6 +128,36 @@ class EditorSession {
   // The same for settings `s` without applying them (throws like set_settings).
   double predict_vertices(const MetricSettings& s) const;
 
+  // --- the metric built in the background -------------------------------------
+  // A metric can take seconds to build (a curvature metric of a 75k-triangle
+  // mesh): the panel asks for it here and the window keeps drawing the
+  // current one meanwhile. The metric of `s` is built in a thread of its own,
+  // one build at a time. apply: once built it is installed as set_settings()
+  // installs it (undoable, journalled), by poll(); else only kept for
+  // preview() (the panel's predicted vertex count). A newer request of the
+  // same kind supersedes the older one: a waiting request is replaced, a
+  // build in progress runs to its end (the engine cannot stop it) and its
+  // result is then only kept for preview(), never installed. The last
+  // metric built is kept: applying the settings just previewed installs it
+  // at once. Settings equal to the current ones cancel a waiting apply.
+  // Throws Error without a mesh.
+  void request_metric(const MetricSettings& s, bool apply);
+  // A build runs or waits; the settings it builds and for how long it has
+  // run (seconds), and whether it will be installed.
+  bool metric_building() const { return metric_job_.valid() || pending_apply_ || pending_preview_; }
+  const MetricSettings& metric_build_of() const { return metric_job_of_; }
+  double metric_build_seconds() const;
+  bool metric_build_applies() const { return pending_apply_.has_value() || (metric_job_.valid() && metric_job_apply_); }
+  // The predicted vertices of `s` once its metric is built (the last build).
+  std::optional<double> preview(const MetricSettings& s) const;
+  // Why the build of `s` failed (empty: it did not fail, or was not asked).
+  std::string metric_error(const MetricSettings& s) const;
+  // The last failed build that was to be installed ("" after a success or a
+  // new apply request): a script stops on it.
+  const std::string& apply_error() const { return apply_error_; }
+  // Seconds the last finished build took.
+  double last_metric_seconds() const { return last_metric_seconds_; }
+
   // --- painting -------------------------------------------------------------
   Brush& brush() { return brush_; }
   // A stroke is one undoable edit: begin, dabs, end. A dab outside a stroke
@@ -152,9 +186,16 @@ class EditorSession {
   void step();
   void run(int max_passes = 0);
   void pause();   // stop after the current pass
+  // When the pause (or cancel) of the run in progress was asked (nullopt:
+  // none since the run started): the window measures how long stopping took.
+  std::optional<std::chrono::steady_clock::time_point> stop_requested() const { return stop_requested_; }
   void cancel();  // stop and go back to where the current run started (once the pass in progress ends)
-  // Applies what waited for the worker to be idle (a cancel); call every frame.
+  // Applies what waited for the worker to be idle (a cancel), installs a
+  // metric built in the background, and once the session has been still for
+  // kPrepareDelay sets the next adaptation's remesher up in the background
+  // (Adaptation::prepare(): Step then begins with its pass); call every frame.
   void poll();
+  static constexpr std::chrono::milliseconds kPrepareDelay{500};
   void reset();   // back to T_0 (the timeline is dropped)
   // Section 7.1's adaptation cycle: the displayed mesh (worker idle) becomes
   // T_0, its metric derived again from the settings (a Hessian, size or
@@ -173,11 +214,20 @@ class EditorSession {
   void scrub(int index);
   int scrubbed() const { return scrub_; }
   std::string adaptation_error() const;
+  // The current adaptation's timings (adaptation.h), 0 without one.
+  double last_setup_seconds() const { return adaptation_ ? adaptation_->last_setup_seconds() : 0; }
+  double last_snapshot_seconds() const { return adaptation_ ? adaptation_->last_snapshot_seconds() : 0; }
 
   // --- display, analysis, selection -----------------------------------------
   DisplayState display() const;
-  // Analysis of the displayed state (cached per display version).
+  // Analysis of the displayed state (cached per state; waits for it).
   const Analysis& analysis();
+  // Without waiting (the panel): the last analysis made, of the displayed
+  // state or of an earlier one (null before the first); the displayed
+  // state's is made in a thread of its own meanwhile. analysis_current():
+  // the last one made is the displayed state's.
+  const Analysis* latest_analysis();
+  bool analysis_current() const { return analysis_of_ && analysis_of_ == display().snapshot; }
   // Selects the elements of a histogram bin (kind "length" or "quality");
   // throws Error for a bin out of range. Empty selection: clear.
   void select_bin(BinKind kind, int bin);
@@ -227,6 +277,14 @@ class EditorSession {
 
  private:
   void apply_metric(MetricField m, const MetricSettings& s, bool reset_adaptation);
+  // set_settings() once the metric of `s` is built.
+  void install_settings(const MetricSettings& s, MetricField m);
+  // The background builds: start one, collect a finished one (installing it
+  // when asked), and wait for the one in progress and drop everything (a new
+  // T_0: what was built belongs to the old one).
+  void start_metric_job(const MetricSettings& s, bool apply);
+  void poll_metric();
+  void forget_metric_jobs();
   // A metric edit, a reset or a new mesh drops the adaptation without waiting
   // for the pass in progress: it is stopped and kept until its worker ends.
   void retire_adaptation();
@@ -234,6 +292,8 @@ class EditorSession {
   void open_stroke();   // begin_stroke / end_stroke without the journal lines
   void close_stroke();
   void changed();
+  // A new adaptation of T_0 with the current metric and settings.
+  std::unique_ptr<Adaptation> make_adaptation() const;
   // A new T_0 (open, next_cycle): what was computed or edited on the old
   // one goes (cached normals and curvatures, undo and redo, the selection).
   void forget_input_state();
@@ -269,13 +329,19 @@ class EditorSession {
   AdaptSettings adapt_settings_;
   std::unique_ptr<Adaptation> adaptation_;
   SharedGeometry geometry_;  // T_G over input_, built in the background at open()
+  std::shared_ptr<std::mutex> geometry_lock_ = std::make_shared<std::mutex>();  // one adaptation on geometry_ at a time
+  std::chrono::steady_clock::time_point changed_at_;  // the last change (the next adaptation is prepared once still)
   std::vector<std::unique_ptr<Adaptation>> retired_;
   std::shared_ptr<const Snapshot> t0_snapshot_;
   int scrub_ = -1;
   std::size_t run_start_ = 0;  // timeline size when the current run started
   bool cancel_pending_ = false;
+  std::optional<std::chrono::steady_clock::time_point> stop_requested_;
   Analysis analysis_;
   std::shared_ptr<const Snapshot> analysis_of_;
+  std::future<Analysis> analysis_job_;  // the analysis of analysis_job_of_, in its thread
+  std::shared_ptr<const Snapshot> analysis_job_of_;
+  void collect_analysis(bool wait);
   std::uint64_t selection_counter_ = 0;
   Selection selection_;
   // A measure's result, as its thread returns it.
@@ -293,6 +359,24 @@ class EditorSession {
   std::string distance_error_;
   std::vector<Vec3> normals_;
   std::vector<SymTensor3> curvature_;
+  // The background metric builds (request_metric()).
+  struct Built {
+    std::shared_ptr<const MetricField> metric;
+    double predicted = 0;
+    std::string error;
+    double seconds = 0;
+  };
+  std::future<Built> metric_job_;
+  MetricSettings metric_job_of_;
+  bool metric_job_apply_ = false;
+  std::chrono::steady_clock::time_point metric_job_start_;
+  std::optional<MetricSettings> pending_apply_, pending_preview_;
+  std::optional<MetricSettings> built_of_;  // the last build that worked, its field and count
+  std::shared_ptr<const MetricField> built_;
+  double built_predicted_ = 0;
+  std::optional<MetricSettings> failed_of_;  // the last build that failed, and why
+  std::string failed_error_, apply_error_;
+  double last_metric_seconds_ = 0;
   std::vector<std::string> journal_;
   std::vector<std::string> written_;  // absolute paths save() wrote since open()
   bool features_from_file_ = false;

@@ -51,8 +51,42 @@ const std::vector<std::array<int, 2>>& control_net_edges() {
   return edges;
 }
 
+namespace {
+
+// The triangles whose control net is drawn (bezier_structure.h: at most
+// o.net_max_patches, the nearest to o.net_centre or every n-th), as a flag
+// per triangle slot.
+std::vector<char> net_patches(const SurfaceMesh& mesh, const BezierStructureOptions& o) {
+  std::vector<char> on(static_cast<std::size_t>(mesh.triangle_capacity()), 0);
+  std::vector<int> all;
+  for (Triangle T : mesh.triangles()) all.push_back(T.idx);
+  const auto n = static_cast<std::size_t>(o.net_max_patches);
+  if (o.net_max_patches <= 0 || all.size() <= n) {
+    for (int t : all) on[static_cast<std::size_t>(t)] = 1;
+    return on;
+  }
+  if (o.net_centre) {
+    const Vec3 c(o.net_centre->x, o.net_centre->y, o.net_centre->z);
+    std::vector<std::pair<double, int>> d;
+    d.reserve(all.size());
+    for (int t : all) {
+      Vec3 g;
+      for (int k = 0; k < 3; ++k) g += mesh.position(mesh.vertex(Triangle(t), k)) / 3.0;
+      d.push_back({norm2(g - c), t});
+    }
+    std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(n), d.end());
+    for (std::size_t i = 0; i < n; ++i) on[static_cast<std::size_t>(d[i].second)] = 1;
+  } else {
+    const double stride = static_cast<double>(all.size()) / static_cast<double>(n);
+    for (std::size_t i = 0; i < n; ++i) on[static_cast<std::size_t>(all[static_cast<std::size_t>(i * stride)])] = 1;
+  }
+  return on;
+}
+
+}  // namespace
+
 SurfaceStructure make_bezier_structure(const SurfaceMesh& mesh, const BezierSurface& surface, const std::string& name,
-                                       const BezierStructureOptions& o) {
+                                       const BezierStructureOptions& o, BezierNetInfo* info) {
   if (o.k < 1) throw Error("the Bezier sampling needs k >= 1, got " + std::to_string(o.k));
   if (surface.size() != mesh.triangle_capacity())
     throw Error("the Bezier surface was built over another mesh (" + std::to_string(surface.size()) +
@@ -70,7 +104,10 @@ SurfaceStructure make_bezier_structure(const SurfaceMesh& mesh, const BezierSurf
   Curves net{"control net", {}, {0.10f, 0.45f, 0.15f}, 1.2f, o.control_net};
   Markers points{"control points", {}, {0.10f, 0.55f, 0.15f}, 2.5f, o.control_net};
   std::vector<glm::vec3> normals;
+  const std::vector<char> with_net = net_patches(mesh, o);
+  BezierNetInfo net_info;
   for (Triangle T : mesh.triangles()) {
+    ++net_info.patches;
     const Vec3 v[3] = {mesh.position(mesh.vertex(T, 0)), mesh.position(mesh.vertex(T, 1)),
                        mesh.position(mesh.vertex(T, 2))};
     const auto base = static_cast<std::uint32_t>(g.positions.size());
@@ -108,6 +145,8 @@ SurfaceStructure make_bezier_structure(const SurfaceMesh& mesh, const BezierSurf
         }
       }
     }
+    if (!with_net[static_cast<std::size_t>(T.idx)]) continue;
+    ++net_info.shown;
     const BezierSurface::Patch& P = surface.patch(T);
     for (const auto& [p, q] : control_net_edges()) {
       net.points.push_back(to_glm(P[p]));
@@ -132,6 +171,7 @@ SurfaceStructure make_bezier_structure(const SurfaceMesh& mesh, const BezierSurf
   s.curves.push_back(std::move(net));
   s.markers.push_back(std::move(points));
   s.version = 1;
+  if (info) *info = net_info;
   return s;
 }
 

@@ -4,6 +4,7 @@
 // the Clough-Tocher control net (31 points per triangle), and the deviation
 // between the mesh and the surface as a scalar quantity.
 #pragma once
+#include <optional>
 #include <string>
 
 #include "geometry/bezier_surface.h"
@@ -22,12 +23,24 @@ struct BezierStructureOptions {
   int k = 4;                  // samples per triangle edge (k^2 sub-triangles)
   bool patch_edges = true;    // curves: the mesh edges mapped onto the surface
   bool control_net = false;   // curves + markers: the control net (enabled flag)
+  // The control net of at most this many patches (0: every patch): about
+  // 80 segments and 28 points each, a net of every patch of a large surface
+  // is millions of lines. The patches nearest to net_centre (their
+  // centroids), else every n-th patch.
+  int net_max_patches = 0;
+  std::optional<glm::vec3> net_centre;
 };
 
-// Builds the structure named `name` for `surface` (built over `mesh`).
-// Throws Error for k < 1 or a surface built over another mesh.
+// How many patches the control net shows, of how many.
+struct BezierNetInfo {
+  int shown = 0, patches = 0;
+};
+
+// Builds the structure named `name` for `surface` (built over `mesh`);
+// `info` (optional) receives the patches of the control net. Throws Error for
+// k < 1 or a surface built over another mesh.
 SurfaceStructure make_bezier_structure(const SurfaceMesh& mesh, const BezierSurface& surface, const std::string& name,
-                                       const BezierStructureOptions& options = {});
+                                       const BezierStructureOptions& options = {}, BezierNetInfo* info = nullptr);
 
 // The edges of the control net of one triangle's 31 points: 3 quartic
 // Clough-Tocher subtriangles, 30 segments each, shared segments once
