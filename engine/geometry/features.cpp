@@ -121,16 +121,18 @@ FeatureReport detect_features(SurfaceMesh& mesh, const FeatureOptions& options) 
       ++rep.detected_ridges;
     }
   }
-  // 1b. blends: spokes of the sectors that turn by the ridge angle at a ridge
-  // vertex (collected first: every vertex sees the tags of step 1 only)
+  // 1b. blends: spokes of the piecewise planar sectors that turn by the
+  // ridge angle at a vertex on two ridges or more (collected first: every
+  // vertex sees the tags of step 1 only)
   if (options.detect_ridges && options.blend_angle_deg > 0) {
     const double blend_angle = options.blend_angle_deg * std::numbers::pi / 180.0;
-    std::vector<Corner> blends;
+    const double flat_angle = options.blend_flat_angle_deg * std::numbers::pi / 180.0;
+    std::vector<Corner> blends, turning;
     std::vector<Vec3> normals;
     for (Vertex vh : mesh.vertices()) {
       if (mesh.is_isolated(vh)) continue;
       const auto fe = feature_edges_at(mesh, vh);
-      if (std::none_of(fe.begin(), fe.end(), [&](const FeatureEdgeAt& f) { return mesh.has_tag(f.edge, kRidge); }))
+      if (std::count_if(fe.begin(), fe.end(), [&](const FeatureEdgeAt& f) { return mesh.has_tag(f.edge, kRidge); }) < 2)
         continue;
       for (const std::vector<Corner>& sector : smooth_sectors(mesh, vh)) {
         if (sector.size() < 2) continue;
@@ -144,14 +146,21 @@ FeatureReport detect_features(SurfaceMesh& mesh, const FeatureOptions& options) 
           for (std::size_t j = i + 1; j < normals.size(); ++j) spread = std::max(spread, angle_between(normals[i], normals[j]));
         if (spread < ridge_angle) continue;
         // the edge between sector[i] and sector[i + 1] is opposite next(sector[i])
-        for (std::size_t i = 0; i + 1 < sector.size(); ++i) {
+        turning.clear();
+        bool planar_parts = true;
+        for (std::size_t i = 0; i + 1 < sector.size() && planar_parts; ++i) {
           const Triangle a = SurfaceMesh::triangle(sector[i]), b = SurfaceMesh::triangle(sector[i + 1]);
           if (!has_reliable_normal(mesh, a, options.degenerate_area_ratio) ||
               !has_reliable_normal(mesh, b, options.degenerate_area_ratio))
             continue;
-          if (angle_between(mesh.triangle_normal(a), mesh.triangle_normal(b)) >= blend_angle)
-            blends.push_back(SurfaceMesh::next(sector[i]));
+          const double turn = angle_between(mesh.triangle_normal(a), mesh.triangle_normal(b));
+          if (turn >= blend_angle) {
+            turning.push_back(SurfaceMesh::next(sector[i]));
+          } else if (turn > flat_angle) {
+            planar_parts = false;
+          }
         }
+        if (planar_parts) blends.insert(blends.end(), turning.begin(), turning.end());
       }
     }
     for (Corner c : blends)
