@@ -121,6 +121,54 @@ FeatureReport detect_features(SurfaceMesh& mesh, const FeatureOptions& options) 
       ++rep.detected_ridges;
     }
   }
+  // 1b. blends: spokes of the piecewise planar sectors that turn by the
+  // ridge angle at a vertex on two ridges or more (collected first: every
+  // vertex sees the tags of step 1 only)
+  if (options.detect_ridges && options.blend_angle_deg > 0) {
+    const double blend_angle = options.blend_angle_deg * std::numbers::pi / 180.0;
+    const double flat_angle = options.blend_flat_angle_deg * std::numbers::pi / 180.0;
+    std::vector<Corner> blends, turning;
+    std::vector<Vec3> normals;
+    for (Vertex vh : mesh.vertices()) {
+      if (mesh.is_isolated(vh)) continue;
+      const auto fe = feature_edges_at(mesh, vh);
+      if (std::count_if(fe.begin(), fe.end(), [&](const FeatureEdgeAt& f) { return mesh.has_tag(f.edge, kRidge); }) < 2)
+        continue;
+      for (const std::vector<Corner>& sector : smooth_sectors(mesh, vh)) {
+        if (sector.size() < 2) continue;
+        normals.clear();
+        for (Corner c : sector) {
+          const Triangle t = SurfaceMesh::triangle(c);
+          if (has_reliable_normal(mesh, t, options.degenerate_area_ratio)) normals.push_back(mesh.triangle_normal(t));
+        }
+        double spread = 0;
+        for (std::size_t i = 0; i < normals.size(); ++i)
+          for (std::size_t j = i + 1; j < normals.size(); ++j) spread = std::max(spread, angle_between(normals[i], normals[j]));
+        if (spread < ridge_angle) continue;
+        // the edge between sector[i] and sector[i + 1] is opposite next(sector[i])
+        turning.clear();
+        bool planar_parts = true;
+        for (std::size_t i = 0; i + 1 < sector.size() && planar_parts; ++i) {
+          const Triangle a = SurfaceMesh::triangle(sector[i]), b = SurfaceMesh::triangle(sector[i + 1]);
+          if (!has_reliable_normal(mesh, a, options.degenerate_area_ratio) ||
+              !has_reliable_normal(mesh, b, options.degenerate_area_ratio))
+            continue;
+          const double turn = angle_between(mesh.triangle_normal(a), mesh.triangle_normal(b));
+          if (turn >= blend_angle) {
+            turning.push_back(SurfaceMesh::next(sector[i]));
+          } else if (turn > flat_angle) {
+            planar_parts = false;
+          }
+        }
+        if (planar_parts) blends.insert(blends.end(), turning.begin(), turning.end());
+      }
+    }
+    for (Corner c : blends)
+      if (!mesh.has_tag(c, kRidge)) {
+        mesh.add_edge_tag(c, kRidge);
+        ++rep.blend_edges;
+      }
+  }
   // 2. user edits on edges
   for (const auto& e : options.add_ridges) mesh.add_edge_tag(edge_of(mesh, e, "add_ridges"), kRidge);
   for (const auto& e : options.remove_ridges) mesh.remove_edge_tag(edge_of(mesh, e, "remove_ridges"), kRidge);

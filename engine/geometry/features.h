@@ -24,6 +24,17 @@ struct FeatureOptions {
   double ridge_angle_deg = 45.0;
   double ridge_tolerance_deg = 0.5;
   double degenerate_area_ratio = 1e-12;
+  // Blends narrower than a triangle: at a vertex on two or more ridges, a
+  // smooth sector whose triangles' normals spread by the ridge angle or more
+  // (the surface turns sharply within one ring next to sharp edges: the one
+  // triangle joining two chamfer strips at a corner of a CAD part) has no
+  // tangent plane. When the sector is made of planar parts, each edge inside
+  // it turning by blend_angle_deg or more and every other one by at most
+  // blend_flat_angle_deg (a scan's noisy fan, with turns of every size, is
+  // left smooth), the turning edges are tagged kRidge, so that every part
+  // keeps its own plane (0: no such tags).
+  double blend_angle_deg = 25.0;
+  double blend_flat_angle_deg = 5.0;
   // Edges between triangles of different references (subdomain interfaces)
   // are feature curves too: they are tagged kRidge.
   bool reference_interfaces = true;
@@ -42,6 +53,7 @@ struct FeatureOptions {
 
 struct FeatureReport {
   int detected_ridges = 0;     // newly tagged by the dihedral angle
+  int blend_edges = 0;         // newly tagged inside a sector turning by the ridge angle
   int interface_edges = 0;     // newly tagged as reference interfaces
   int boundary_edges = 0;
   int feature_edges = 0;       // every edge a feature curve runs along

@@ -141,7 +141,8 @@ class LocalFit {
 double angle_of(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
 
 // Tangent line at a regular curve vertex v between curve neighbours a and b,
-// oriented towards b. The circle tangent turns the chord v->b by alpha and
+// oriented towards b. curve_tangent (the circle tangent, or the turn shared
+// by the edges' lengths where they are very unequal) turns the chord v->b by alpha and
 // v->a by beta = turn - alpha, in the plane of the chords; turning a chord
 // past a thin triangle beside it would fold the patch there. So alpha is
 // kept where, for every triangle (v, w, x) beside either curve edge, the
@@ -149,10 +150,12 @@ double angle_of(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, 
 // the chord's own margin (measured in the triangle's plane): the feasible
 // alpha nearest to the circle's, or the circle's when none fits.
 Vec3 safe_curve_tangent(const SurfaceMesh& mesh, Vertex v, const FeatureEdgeAt& ea, const FeatureEdgeAt& eb,
-                        double room) {
+                        const NormalOptions& options) {
+  const double room = options.tangent_room;
   const Vec3& p = mesh.position(v);
   const Vec3 ua = normalized(mesh.position(ea.other) - p), ub = normalized(mesh.position(eb.other) - p);
-  const Vec3 t = circle_tangent(mesh.position(ea.other), p, mesh.position(eb.other));
+  const Vec3 t = curve_tangent(mesh.position(ea.other), p, mesh.position(eb.other), options.tangent_circle_ratio,
+                               options.tangent_even_ratio);
   const double turn = std::numbers::pi - angle_of(ua, ub);
   if (turn < 1e-9) return t;
   const Vec3 wb = normalized(-ua - dot(-ua, ub) * ub);  // ub turns towards wb
@@ -193,7 +196,7 @@ Vec3 safe_curve_tangent(const SurfaceMesh& mesh, Vertex v, const FeatureEdgeAt& 
     if (ok(alpha) && (best < 0 || std::fabs(alpha - alpha_c) < std::fabs(best - alpha_c))) best = alpha;
   }
   // no turn fits (the curve bends out of the surface beside slivers): keep
-  // the circle tangent; the sector planes turn about it instead (step 3c)
+  // curve_tangent's; the sector planes turn about it instead (step 3c)
   if (best < 0) return t;
   return normalized(std::cos(best) * ub + std::sin(best) * wb);
 }
@@ -330,6 +333,23 @@ Vec3 circle_tangent(const Vec3& a, const Vec3& v, const Vec3& b) {
   return normalized(e1 * (l2 / l1) + e2 * (l1 / l2));
 }
 
+Vec3 curve_tangent(const Vec3& a, const Vec3& v, const Vec3& b, double circle_ratio, double even_ratio) {
+  // t ~ w1 e1 / l1 + w2 e2 / l2 turns off edge i by about turn x w_j / (w1 + w2):
+  // the circle's weights (w1, w2) = (l2, l1) turn it off each edge in
+  // proportion to that edge's length, (l1, l2) in inverse proportion;
+  // w1 = l1^s l2^(1-s), w2 = l2^s l1^(1-s) blends them (s from 0 to 1).
+  const Vec3 e1 = v - a, e2 = b - v;
+  const double l1 = norm(e1), l2 = norm(e2);
+  if (!(l1 > 0) || !(l2 > 0)) return normalized(b - a);
+  const double ratio = std::max(l1, l2) / std::min(l1, l2);
+  const double s = even_ratio > circle_ratio
+                       ? std::clamp((ratio - circle_ratio) / (even_ratio - circle_ratio), 0.0, 1.0)
+                       : (ratio > circle_ratio ? 1.0 : 0.0);
+  if (s == 0) return circle_tangent(a, v, b);
+  const double w1 = std::pow(l1, s) * std::pow(l2, 1 - s), w2 = std::pow(l2, s) * std::pow(l1, 1 - s);
+  return normalized(e1 * (w1 / l1) + e2 * (w2 / l2));
+}
+
 SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& options) {
   SurfaceFrames f;
   const int nc = mesh.corner_capacity();
@@ -353,7 +373,7 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
     if (mesh.is_isolated(vh) || mesh.has_tag(vh, kCorner)) continue;
     const auto fe = feature_edges_at(mesh, vh);
     if (fe.size() != 2) continue;
-    const Vec3 t = safe_curve_tangent(mesh, vh, fe[0], fe[1], options.tangent_room);
+    const Vec3 t = safe_curve_tangent(mesh, vh, fe[0], fe[1], options);
     regular[vh.idx] = 1;
     line[vh.idx] = t;
   }

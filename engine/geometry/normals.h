@@ -50,6 +50,18 @@ struct NormalOptions {
   // (a crest bending out of the surface beside slivers) the sector planes
   // turn about the circle tangent instead (unfold_margin_deg below).
   double tangent_room = 0.5;
+  // The curve tangent before that check: where the two curve edges at the
+  // vertex have comparable lengths (longer / shorter <= tangent_circle_ratio)
+  // the circle through the vertex and its neighbours, exact on circles
+  // sampled unevenly. Its turn off each edge is proportional to that edge's
+  // length, so beside a much shorter edge it lies nearly along the short one
+  // and the long edge's curve bulges by about its length x the turn / 4 (a
+  // straight run meeting a finely sampled fillet, as CAD tessellations have
+  // them). At ratios of tangent_even_ratio and more the turn off each edge
+  // is inversely proportional to its length instead (both edges sag alike:
+  // the long edge stays nearly straight); in between the two blend.
+  double tangent_circle_ratio = 2.0;
+  double tangent_even_ratio = 4.0;
   // A sector normal more than this angle away from one of its triangles'
   // normals (noisy fans: the patch would fold) is tilted towards them.
   double max_tilt_deg = 75.0;
@@ -130,5 +142,14 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
 // curve points a, v, b: the tangent at v of the circle through them (exact on
 // circles for any spacing), oriented from a towards b.
 Vec3 circle_tangent(const Vec3& a, const Vec3& v, const Vec3& b);
+
+// Unit tangent of a feature curve at v between its neighbours a and b,
+// oriented from a towards b: circle_tangent while the longer of the edges
+// v-a, v-b is at most circle_ratio times the shorter; from even_ratio on,
+// the turn between the edges shared in inverse proportion to their lengths
+// (the deviation of the tangent from each edge times the edge's length is
+// the same on both sides: the curve's sag stays bounded by the short edge's
+// turn); a blend in between (NormalOptions::tangent_circle_ratio).
+Vec3 curve_tangent(const Vec3& a, const Vec3& v, const Vec3& b, double circle_ratio, double even_ratio);
 
 }  // namespace anisurf
