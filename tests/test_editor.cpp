@@ -815,3 +815,28 @@ TEST_CASE("editor: a .vtu or .msh with its metric inside opens with that metric,
     CHECK(s.predicted_vertices() > 0);
   }
 }
+
+TEST_CASE("editor: defaults at the model's scale: the iso size keeps the input's density, the brush follows the diagonal") {
+  const auto dir = test::temp_dir("editor_scale");
+  SurfaceMesh mesh = load_mesh(demo_mesh());
+  const std::string unit_path = (dir / "unit.mesh").string(), big_path = (dir / "big.mesh").string();
+  save_mesh(unit_path, mesh);
+  for (Vertex v : mesh.vertices()) mesh.position(v) = 1000.0 * mesh.position(v);
+  save_mesh(big_path, mesh);
+
+  EditorSession unit, big;
+  unit.open(unit_path);
+  big.open(big_path);
+  for (EditorSession* s : {&unit, &big}) {
+    REQUIRE(s->settings().source == MetricSettings::Source::Iso);
+    // Adapting right after opening keeps about the input's vertex count.
+    const double n = s->input().n_vertices();
+    CHECK(s->predicted_vertices() == doctest::Approx(n).epsilon(0.05));
+    const BBox b = s->input().bbox();
+    CHECK(s->brush().radius == doctest::Approx(norm(b.hi - b.lo) / 10));
+    CHECK(s->brush().size == doctest::Approx(0.5 * s->settings().iso));
+  }
+  CHECK(big.settings().iso == doctest::Approx(1000 * unit.settings().iso).epsilon(1e-6));
+  MESSAGE("demo: iso " << unit.settings().iso << " for " << unit.input().n_vertices() << " vertices, predicted "
+                       << unit.predicted_vertices());
+}

@@ -45,6 +45,26 @@ SymTensor3 blend(const SymTensor3& A, const SymTensor3& B, double w) {
   return tensor_exp(l);
 }
 
+// The iso size whose metric predicts as many vertices as the mesh has (the
+// prediction of report section 2.2: its area term scales as 1 / h^2, its
+// boundary term as 1 / h), found by fixed-point steps h <- h sqrt(N(h) / n):
+// the input's own density, so that adapting right after opening keeps the
+// mesh's size. 1/40 of the diagonal on a mesh without area.
+double density_size(const SurfaceMesh& mesh) {
+  const BBox b = mesh.bbox();
+  const double fallback = std::max(norm(b.hi - b.lo) / 40.0, 1e-9);
+  const double n = std::max(3, mesh.n_vertices());
+  double h = fallback;
+  for (int step = 0; step < 30; ++step) {
+    const MetricField iso(static_cast<std::size_t>(mesh.vertex_capacity()), SymTensor3::identity(1.0 / (h * h)));
+    const double ratio = predicted_vertices(mesh, iso) / n;
+    if (!std::isfinite(ratio) || !(ratio > 0)) return fallback;
+    h *= std::sqrt(ratio);
+    if (std::fabs(ratio - 1) < 1e-3) break;
+  }
+  return std::isfinite(h) && h > 0 ? h : fallback;
+}
+
 }  // namespace
 
 std::string absolute_path(const std::string& path) {
@@ -190,19 +210,25 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
   } else {
     if (s.source == MetricSettings::Source::Sol) s.source = MetricSettings::Source::Iso;
     s.sol_path.clear();  // the previous mesh's metric file does not fit this mesh
-    // A default iso size from the mesh (1/40 of its diagonal); the settings
-    // of the previous mesh may not suit this one (an expression undefined
-    // here, bounds): then the iso size without bounds.
-    const BBox b = input_->bbox();
-    const double diag = norm(b.hi - b.lo);
-    if (s.source == MetricSettings::Source::Iso) s.iso = std::max(diag / 40.0, 1e-9);
+    // A default iso size from the mesh (its own density: density_size); the
+    // settings of the previous mesh may not suit this one (an expression
+    // undefined here, bounds): then the iso size without bounds.
+    const double h = density_size(*input_);
+    if (s.source == MetricSettings::Source::Iso) s.iso = h;
     try {
       m = compute_metric(s);
     } catch (const std::exception&) {
       s = MetricSettings{};
-      s.iso = std::max(diag / 40.0, 1e-9);
+      s.iso = h;
       m = compute_metric(s);
     }
+  }
+  // The brush at the model's scale: a tenth of the diagonal, half the
+  // input's density (a stroke refines).
+  {
+    const BBox b = input_->bbox();
+    brush_.radius = std::max(norm(b.hi - b.lo) / 10.0, 1e-9);
+    brush_.size = 0.5 * density_size(*input_);
   }
   base_metric_ = m;
   metric_ = std::move(m);

@@ -94,8 +94,11 @@ class EditorSession {
   // branches), else they are detected as `anisurf adapt` does. The metric
   // comes from SOL when given (or from the file's own metric field): source
   // Sol, used as given (gradation off, no bounds; the user may set them
-  // afterwards); else the current settings. Clears the undo stack and the
-  // adaptation. Throws Error with the file's message.
+  // afterwards); else the current settings, an iso size taken from the
+  // input's density (the metric predicts as many vertices as it has). The
+  // brush radius becomes a tenth of the diagonal, its size half that
+  // density. Clears the undo stack and the adaptation. Throws Error with
+  // the file's message.
   void open(const std::string& mesh_path, const std::string& sol_path = {});
   bool has_mesh() const { return input_ != nullptr; }
   const std::string& mesh_path() const { return mesh_path_; }
