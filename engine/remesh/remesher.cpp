@@ -377,8 +377,15 @@ void Remesher::swap_pass(PassReport& r) {
   }
 }
 
-void Remesher::smooth_pass(PassReport& r) {
+void Remesher::smooth_pass(PassReport& r, double visit_below) {
   SurfaceMesh& mesh = mesh_.mesh();
+  // The worst quality of v's fan is below visit_below.
+  auto worth_visiting = [&](Vertex v) {
+    if (!(visit_below <= 1)) return true;
+    for (Corner c : mesh.fan(v))
+      if (mesh_.quality(M::triangle(c)) < visit_below) return true;
+    return false;
+  };
   OperatorOptions o = options_.op;
   if (smoothing_done_ < options_.relaxed_smoothing_passes) o.move_quality_factor = options_.relaxed_quality_factor;
   std::vector<std::uint8_t> active(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
@@ -386,7 +393,7 @@ void Remesher::smooth_pass(PassReport& r) {
   active.swap(smooth_active_);
   for (Vertex v : mesh.vertices()) {
     if (interrupted(r)) break;
-    if (!active[v.idx] || mesh.is_isolated(v)) continue;
+    if (!active[v.idx] || mesh.is_isolated(v) || !worth_visiting(v)) continue;
     const MovePlan plan = can_move(mesh_, v, o);
     if (plan.why != Rejection::None) {
       refuse(r, PassKind::Smooth, plan.why);
@@ -430,7 +437,7 @@ void Remesher::final_pass(PassReport& r) {
   mark_all();
   for (int p = 0; p < options_.final_smoothing_passes && !r.interrupted; ++p) {
     const int before = r.moves;
-    smooth_pass(r);
+    smooth_pass(r, p < options_.final_full_passes ? INFINITY : options_.final_visit_quality);
     if (r.moves == before) break;
   }
   if (!r.interrupted) bound_distance(r);
