@@ -241,14 +241,25 @@ TEST_CASE("editor window on the Falcon: the slowest frame while a curvature metr
   const std::string cmd = "XDG_STATE_HOME='" + (dir / "state").string() + "' xvfb-run -a -s '-screen 0 1280x800x24' '" +
                           ANISURF_BINARY + "' --script '" + script.string() + "' --size 1280x800 >'" +
                           (dir / "stdout.txt").string() + "' 2>'" + (dir / "stderr.txt").string() + "'";
-  const int status = std::system(cmd.c_str());
-  const std::string err = slurp(dir / "stderr.txt");
-  INFO(err);
-  REQUIRE(WIFEXITED(status));
-  REQUIRE(WEXITSTATUS(status) == 0);
   const std::regex totals(R"(frame stats: (\d+) frames, mean ([0-9.]+) ms, slowest ([0-9.]+) ms)");
+  std::string err;
   std::vector<std::smatch> found;
-  for (auto it = std::sregex_iterator(err.begin(), err.end(), totals); it != std::sregex_iterator(); ++it) found.push_back(*it);
+  // A second attempt when the window closed before the script's end (seen
+  // once among the parallel tests of CI, with exit status 0 and the first
+  // figures printed): the figures of a whole run are what is checked.
+  for (int attempt = 1; attempt <= 2; ++attempt) {
+    const int status = std::system(cmd.c_str());
+    err = slurp(dir / "stderr.txt");
+    INFO(err);
+    REQUIRE(WIFEXITED(status));
+    REQUIRE(WEXITSTATUS(status) == 0);
+    found.clear();
+    for (auto it = std::sregex_iterator(err.begin(), err.end(), totals); it != std::sregex_iterator(); ++it)
+      found.push_back(*it);
+    if (found.size() == 2) break;
+    MESSAGE("attempt " << attempt << ": the window's run ended early:\n" << err);
+  }
+  INFO(err);
   REQUIRE(found.size() == 2);
   const double idle_mean = std::stod(found[0][2]);
   const int frames = std::stoi(found[1][1]);

@@ -57,6 +57,9 @@ int run_script_headless(const ScriptOptions& o) {
       view.frame_selection = before.frame_selection;
       ev.update(session, view, scene, aspect, ui.left_reserve(W), ui.right_reserve(W));
     }
+    // What waits for the camera's fit (the G1 surface's control net is built
+    // around the view's centre) is built now.
+    if (!ev.settled(session, view)) ev.update(session, view, scene, aspect, ui.left_reserve(W), ui.right_reserve(W));
     render::Image img = renderer->render(scene, ui_cb, W, H, 3);
     render::write_png(png, img);
     std::fprintf(stderr, "screenshot %s (%dx%d, %.2f s)\n", png.c_str(), W, H,

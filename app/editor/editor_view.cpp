@@ -270,8 +270,10 @@ void EditorView::start_bezier(const ViewState& view, const render::Scene& scene)
   bo.patch_edges = bezier_job_sampled_k_ > 1;
   bo.net_max_patches = kNetMaxPatches;
   // The net around the point of the mesh at the centre of the view (what
-  // the user looks at), else around the camera's target.
-  bo.net_centre = scene.camera.target;
+  // the user looks at), else (the mesh's buffers still being built) around
+  // the eye: the patches nearest to it face the camera, where the camera's
+  // target (the middle of a closed surface) is as far from every patch.
+  bo.net_centre = scene.camera.eye();
   if (const auto hit = render::pick(mesh_.structure.geometry, render::pixel_ray(scene.camera, 0.0f, 0.0f, 1, 1)))
     bo.net_centre = hit->point;
   // The snapshot is immutable and kept alive by the job.
@@ -363,8 +365,11 @@ void EditorView::update(EditorSession& session, ViewState& view, render::Scene& 
   const bool want_bezier = view.bezier > 0;
   if (want_bezier) {
     structures_changed |= collect_bezier(view);
-    // A build is started for the state shown, once its structure is.
-    if (!bezier_current(view) && !bezier_job_.valid()) {
+    // A build is started for the state shown, once its structure is, and
+    // once the camera is where it is going (the net is built around the
+    // view's centre: not before the fit of a mesh just opened).
+    const bool camera_settled = !view.fit_request && !view.view_request;
+    if (!bezier_current(view) && !bezier_job_.valid() && camera_settled) {
       start_bezier(view, scene);
       bezier_job_opened_ = shown_opened_;
       if (synchronous_) {
