@@ -100,16 +100,9 @@ std::array<double, 3> object_box(const render::Image& img, int x0, int x1) {
   return {0.5 * (lo_x + hi_x), 0.5 * (lo_y + hi_y), 0.5 * (hi_x - lo_x)};
 }
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // tests/data/scripts/NAME with @ASSETS@ and @OUT@ replaced, written into dir.
 std::filesystem::path instantiate(const std::string& name, const std::filesystem::path& dir) {
-  std::string s = slurp(test::data_file("scripts/" + name));
+  std::string s = test::file_bytes(test::data_file("scripts/" + name));
   auto replace_all = [&](const std::string& a, const std::string& b) {
     for (std::size_t pos = s.find(a); pos != std::string::npos; pos = s.find(a, pos + b.size())) s.replace(pos, a.size(), b);
   };
@@ -419,7 +412,7 @@ TEST_CASE("editor: scripted session of every panel, headless") {
   const auto dir = test::temp_dir("editor_panels_headless");
   const auto script = instantiate("panels.anisurf", dir);
   const int code = run_binary("env -u DISPLAY", "--script " + script.string() + " --headless --size 1280x800", dir);
-  INFO(slurp(dir / "stderr.txt"));
+  INFO(test::file_bytes(dir / "stderr.txt"));
   REQUIRE(code == 0);
   check_panel_screenshots(dir);
 }
@@ -433,7 +426,7 @@ TEST_CASE("editor: scripted session of every panel, in the window under xvfb-run
   const auto script = instantiate("panels.anisurf", dir);
   std::ofstream(script, std::ios::app) << "quit\n";
   const int code = run_binary("xvfb-run -a -s \"-screen 0 1280x800x24\"", "--script " + script.string() + " --size 1280x800", dir);
-  INFO(slurp(dir / "stderr.txt"));
+  INFO(test::file_bytes(dir / "stderr.txt"));
   REQUIRE(code == 0);
   check_panel_screenshots(dir);
 }
@@ -461,7 +454,7 @@ TEST_CASE("shot --bezier: the G1 surface, its control net, the deviation colorma
   CHECK(green(g1) < 50);
   CHECK(green(net) > 2000);
   CHECK(run_binary("", base + "--color deviation -o " + (dir / "x.png").string(), dir) == 2);
-  CHECK(slurp(dir / "stderr.txt").find("--color deviation needs --bezier K") != std::string::npos);
+  CHECK(test::file_bytes(dir / "stderr.txt").find("--color deviation needs --bezier K") != std::string::npos);
   CHECK(run_binary("", base + "--control-net -o " + (dir / "x.png").string(), dir) == 2);
 }
 
@@ -469,12 +462,12 @@ TEST_CASE("editor: command lines") {
   const auto dir = test::temp_dir("editor_cli");
   CHECK(run_binary("", "--script", dir) == 2);
   CHECK(run_binary("", "--script /nonexistent.anisurf --headless", dir) == 1);
-  CHECK(slurp(dir / "stderr.txt").find("/nonexistent.anisurf: cannot read the script") != std::string::npos);
+  CHECK(test::file_bytes(dir / "stderr.txt").find("/nonexistent.anisurf: cannot read the script") != std::string::npos);
   CHECK(run_binary("", "--help-script", dir) == 0);
-  CHECK(slurp(dir / "stdout.txt").find("select-bin length|quality I") != std::string::npos);
+  CHECK(test::file_bytes(dir / "stdout.txt").find("select-bin length|quality I") != std::string::npos);
   // Without a display the window fails with a hint (exit code 1).
   CHECK(run_binary("env -u DISPLAY", demo_mesh(), dir) == 1);
-  CHECK(slurp(dir / "stderr.txt").find("no DISPLAY") != std::string::npos);
+  CHECK(test::file_bytes(dir / "stderr.txt").find("no DISPLAY") != std::string::npos);
   // Subcommands still reach the regular command line.
   CHECK(run_binary("", "info " + demo_mesh(), dir) == 0);
 }
@@ -505,9 +498,9 @@ TEST_CASE("editor: a script's run, anisurf adapt and a library call give the sam
   attach_fields(with_fields, read_sol(sol, report.input_vertices), report);
   o.metric.given = metric_from_field(with_fields);
   save_mesh((dir / "library.mesh").string(), remesh::adapt(std::move(input), o).mesh);
-  CHECK(slurp(dir / "editor.mesh") == slurp(dir / "cli.mesh"));
-  CHECK(slurp(dir / "editor.sol") == slurp(dir / "cli.sol"));
-  CHECK(slurp(dir / "library.mesh") == slurp(dir / "cli.mesh"));
+  CHECK(test::file_bytes(dir / "editor.mesh") == test::file_bytes(dir / "cli.mesh"));
+  CHECK(test::file_bytes(dir / "editor.sol") == test::file_bytes(dir / "cli.sol"));
+  CHECK(test::file_bytes(dir / "library.mesh") == test::file_bytes(dir / "cli.mesh"));
 }
 
 TEST_CASE("editor: cycles re-derive the metric on the adapted mesh, as anisurf adapt --cycles does") {
@@ -520,7 +513,7 @@ TEST_CASE("editor: cycles re-derive the metric on the adapted mesh, as anisurf a
       << (dir / "editor.mesh").string() << "\n";
   }
   REQUIRE(run_binary("env -u DISPLAY", "--script " + (dir / "cycles.anisurf").string() + " --headless", dir) == 0);
-  const std::string log = slurp(dir / "stderr.txt");
+  const std::string log = test::file_bytes(dir / "stderr.txt");
   CHECK(log.find("cycle 2:") != std::string::npos);
   int status = -1;
   const std::string out = test::capture(std::string(ANISURF_BINARY) + " adapt '" + mesh + "' --hessian-of '" + f +
@@ -528,7 +521,7 @@ TEST_CASE("editor: cycles re-derive the metric on the adapted mesh, as anisurf a
                                             (dir / "cli.mesh").string() + "'",
                                         &status);
   REQUIRE(status == 0);
-  CHECK(slurp(dir / "editor.mesh") == slurp(dir / "cli.mesh"));
+  CHECK(test::file_bytes(dir / "editor.mesh") == test::file_bytes(dir / "cli.mesh"));
 
   // In process: a cycle needs an adapted mesh shown, and makes it T_0.
   EditorSession s;
@@ -633,7 +626,7 @@ TEST_CASE("editor: color distance in a script, headless: the legend and the colo
       << "\ncolor distance\nscreenshot " << (dir / "distance.png").string() << "\n";
   }
   const int code = run_binary("env -u DISPLAY", "--script " + (dir / "distance.anisurf").string() + " --headless --size 1280x800", dir);
-  INFO(slurp(dir / "stderr.txt"));
+  INFO(test::file_bytes(dir / "stderr.txt"));
   REQUIRE(code == 0);
   const render::Image size = render::read_png((dir / "size.png").string()),
                       dist = render::read_png((dir / "distance.png").string());
@@ -656,10 +649,10 @@ TEST_CASE("editor: color distance in a script, headless: the legend and the colo
     f << "open " << demo_mesh() << "\nbezier 4\ncolor distance\n";
   }
   CHECK(run_binary("env -u DISPLAY", "--script " + (dir / "bad.anisurf").string() + " --headless", dir) == 1);
-  CHECK(slurp(dir / "stderr.txt").find("bad.anisurf:3: color distance: the distance colours the mesh; hide the G1 surface first (bezier off)") !=
+  CHECK(test::file_bytes(dir / "stderr.txt").find("bad.anisurf:3: color distance: the distance colours the mesh; hide the G1 surface first (bezier off)") !=
         std::string::npos);
   CHECK(run_binary("", "--help-script", dir) == 0);
-  CHECK(slurp(dir / "stdout.txt").find("color size|aniso|length|quality|ref|deviation|distance|fallback|none") != std::string::npos);
+  CHECK(test::file_bytes(dir / "stdout.txt").find("color size|aniso|length|quality|ref|deviation|distance|fallback|none") != std::string::npos);
 }
 
 TEST_CASE("editor: the fallback colours: the vertices pulled to the input, counted from T_1's placements") {
@@ -759,7 +752,7 @@ TEST_CASE("editor: color fallback in a script, headless: the pulled vertices in 
       << "\ncolor fallback\nscreenshot " << (dir / "fallback.png").string() << "\n";
   }
   const int code = run_binary("env -u DISPLAY", "--script " + (dir / "fallback.anisurf").string() + " --headless --size 1280x800", dir);
-  INFO(slurp(dir / "stderr.txt"));
+  INFO(test::file_bytes(dir / "stderr.txt"));
   REQUIRE(code == 0);
   const render::Image initial = render::read_png((dir / "initial.png").string()),
                       size = render::read_png((dir / "size.png").string()),
@@ -787,7 +780,7 @@ TEST_CASE("editor: color fallback in a script, headless: the pulled vertices in 
     f << "open " << demo_mesh() << "\nbezier 4\ncolor fallback\n";
   }
   CHECK(run_binary("env -u DISPLAY", "--script " + (dir / "bad.anisurf").string() + " --headless", dir) == 1);
-  CHECK(slurp(dir / "stderr.txt").find("bad.anisurf:3: color fallback: the placements colour the mesh; hide the G1 surface first (bezier off)") !=
+  CHECK(test::file_bytes(dir / "stderr.txt").find("bad.anisurf:3: color fallback: the placements colour the mesh; hide the G1 surface first (bezier off)") !=
         std::string::npos);
 }
 

@@ -30,17 +30,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string assets(const std::string& name) {
-  return (fs::path(ANISURF_TEST_DATA_DIR) / ".." / ".." / "assets" / name).lexically_normal().string();
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 bool same(const MetricField& a, const MetricField& b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i)
@@ -68,7 +57,7 @@ int count_lines(const std::vector<std::string>& journal, const std::string& line
 
 TEST_CASE("editor metric in the background: an apply installs once built, a preview only counts, the newest request wins") {
   EditorSession s;
-  s.open(assets("demo.mesh"));
+  s.open(test::asset_file("demo.mesh"));
   const MetricSettings start = s.settings();
   const MetricField start_metric = s.metric();
   MetricSettings a = start, b = start, c = start;
@@ -128,14 +117,14 @@ TEST_CASE("editor metric in the background: an apply installs once built, a prev
 
   // Opening a mesh drops what was built for the previous one.
   s.request_metric(a, false);
-  s.open(assets("demo.mesh"));
+  s.open(test::asset_file("demo.mesh"));
   CHECK_FALSE(s.metric_building());
   const bool stale_preview = s.preview(a).has_value() && !(s.settings() == a);
   CHECK_FALSE(stale_preview);
 }
 
 TEST_CASE("editor: the control net of at most N patches, the nearest to a centre or every n-th") {
-  const SurfaceMesh m = load_mesh(assets("demo.mesh"));
+  const SurfaceMesh m = load_mesh(test::asset_file("demo.mesh"));
   const BezierSurface surface(m, compute_frames(m));
   const auto edges = render::control_net_edges().size();
   auto net_points = [](const render::SurfaceStructure& s, const char* name) -> std::vector<glm::vec3> {
@@ -182,7 +171,7 @@ TEST_CASE("editor: the control net of at most N patches, the nearest to a centre
 
 TEST_CASE("editor view: the G1 surface is built in the background; the view is settled once it is shown") {
   EditorSession s;
-  s.open(assets("demo.mesh"));
+  s.open(test::asset_file("demo.mesh"));
   ViewState v;
   v.bezier = 3;
   v.control_net = true;
@@ -249,7 +238,7 @@ TEST_CASE("editor window on the Falcon: the slowest frame while a curvature metr
   // figures printed): the figures of a whole run are what is checked.
   for (int attempt = 1; attempt <= 2; ++attempt) {
     const int status = std::system(cmd.c_str());
-    err = slurp(dir / "stderr.txt");
+    err = test::file_bytes(dir / "stderr.txt");
     INFO(err);
     REQUIRE(WIFEXITED(status));
     REQUIRE(WEXITSTATUS(status) == 0);

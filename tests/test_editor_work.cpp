@@ -36,17 +36,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string assets(const std::string& name) {
-  return (fs::path(ANISURF_TEST_DATA_DIR) / ".." / ".." / "assets" / name).lexically_normal().string();
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 const std::vector<std::string> kEdited = {"open a.mesh", "metric iso 0.2", "step"};
 
 // The features of a mesh as sets of positions: ridge edges (both ends,
@@ -109,7 +98,7 @@ TEST_CASE("editor autosave: each launch writes its own file; an earlier launch's
   CHECK(first.path().empty());
   CHECK(fs::is_empty(dir));
   REQUIRE(first.write(kEdited));
-  const std::string first_bytes = slurp(first.path());
+  const std::string first_bytes = test::file_bytes(first.path());
   CHECK(first_bytes.find("metric iso 0.2\nstep\n") != std::string::npos);
   CHECK_FALSE(first.write(kEdited));  // unchanged journal: not written again
 
@@ -120,11 +109,11 @@ TEST_CASE("editor autosave: each launch writes its own file; an earlier launch's
     REQUIRE(later.write({"open a.mesh", "metric iso 0.3", "run"}));
     CHECK(later.path() != first.path());
     CHECK(later.write({"open a.mesh", "metric iso 0.3", "run", "undo"}));
-    CHECK(slurp(first.path()) == first_bytes);
+    CHECK(test::file_bytes(first.path()) == first_bytes);
   }
   // The first launch goes on writing its own file only.
   REQUIRE(first.write({"open a.mesh", "metric iso 0.2", "step", "reset"}));
-  CHECK(slurp(first.path()).find("reset\n") != std::string::npos);
+  CHECK(test::file_bytes(first.path()).find("reset\n") != std::string::npos);
   const auto listed = list_autosaves(dir.string());
   REQUIRE(listed.size() == 3);
   CHECK(listed.front().path == first.path());  // newest first
@@ -186,7 +175,7 @@ TEST_CASE("editor autosave: a restore replays the edits, not the saves") {
   const auto dir = test::temp_dir("editor_autosave_restore");
   const std::string saved = (dir / "saved.mesh").string(), saved_sol = (dir / "saved.sol").string();
   EditorSession s;
-  s.open(assets("demo.mesh"));
+  s.open(test::asset_file("demo.mesh"));
   MetricSettings m = s.settings();
   m.iso = 0.3;
   s.set_settings(m);
@@ -197,7 +186,7 @@ TEST_CASE("editor autosave: a restore replays the edits, not the saves") {
   s.dab(Vec3(0, 1, 0));
   Autosave a(dir.string(), std::time(nullptr), 1);
   REQUIRE(a.write(s.journal()));
-  CHECK(slurp(a.path()).find("save " + saved) != std::string::npos);
+  CHECK(test::file_bytes(a.path()).find("save " + saved) != std::string::npos);
   {
     const auto listed = list_autosaves(dir.string());
     REQUIRE(listed.size() == 1);
@@ -221,7 +210,7 @@ TEST_CASE("editor autosave: a restore replays the edits, not the saves") {
   EditorSession r;
   ViewState v;
   CHECK(restore_autosave(a.path(), r, v) == 1);
-  CHECK(slurp(saved) == "changed since\n");
+  CHECK(test::file_bytes(saved) == "changed since\n");
   CHECK_FALSE(fs::exists(saved_sol));
   REQUIRE(r.metric().size() == s.metric().size());
   double worst = 0;
@@ -242,8 +231,8 @@ TEST_CASE("editor save: default paths beside the opened file; existing files the
   CHECK(default_save_mesh((dir / "bunny.off").string()) == (dir / "bunny.adapted.mesh").string());
   CHECK(default_save_sol((dir / "bunny.off").string()) == (dir / "bunny.adapted.sol").string());
   CHECK(default_save_mesh("rel/x.mesh") == (fs::current_path() / "rel" / "x.adapted.mesh").lexically_normal().string());
-  fs::copy_file(assets("demo.mesh"), dir / "demo.mesh");
-  fs::copy_file(assets("demo.sol"), dir / "demo.sol");
+  fs::copy_file(test::asset_file("demo.mesh"), dir / "demo.mesh");
+  fs::copy_file(test::asset_file("demo.sol"), dir / "demo.sol");
   EditorSession s;
   s.open((dir / "demo.mesh").string());
   const std::string out = default_save_mesh(s.mesh_path()), out_sol = default_save_sol(s.mesh_path());
@@ -273,8 +262,8 @@ TEST_CASE("editor: Open, Restore and Quit ask first when the session has unsaved
   ViewState v;
   PanelState p;
   // Nothing unsaved: done at once.
-  request(s, v, p, {PanelState::Action::Open, assets("demo.mesh"), {}});
-  CHECK(s.mesh_path() == assets("demo.mesh"));
+  request(s, v, p, {PanelState::Action::Open, test::asset_file("demo.mesh"), {}});
+  CHECK(s.mesh_path() == test::asset_file("demo.mesh"));
   CHECK_FALSE(p.ask_unsaved);
   s.step();
   s.wait();
@@ -287,7 +276,7 @@ TEST_CASE("editor: Open, Restore and Quit ask first when the session has unsaved
     request(s, v, p, a);
     CHECK(p.ask_unsaved);
     CHECK(p.pending.action == a.action);
-    CHECK(s.mesh_path() == assets("demo.mesh"));
+    CHECK(s.mesh_path() == test::asset_file("demo.mesh"));
     CHECK(s.timeline().size() == 2);
     CHECK_FALSE(p.quit_confirmed);
   }
@@ -317,7 +306,7 @@ TEST_CASE("editor: Ctrl+Q quits a saved session at once and asks on unsaved chan
         << "if kill -0 $pid 2>/dev/null; then echo alive; kill $pid; else echo exited; fi; wait $pid' >'"
         << (dir / "stdout.txt").string() << "' 2>'" << (dir / "stderr.txt").string() << "'";
     std::system(cmd.str().c_str());
-    return slurp(dir / "stdout.txt");
+    return test::file_bytes(dir / "stdout.txt");
   };
   CHECK(launch(false).find("exited") != std::string::npos);
   CHECK(launch(true).find("alive") != std::string::npos);
@@ -325,7 +314,7 @@ TEST_CASE("editor: Ctrl+Q quits a saved session at once and asks on unsaved chan
 
 TEST_CASE("editor metric panel: a typed value stays in the draft until committed (Enter, Tab, focus loss alike)") {
   EditorSession s;
-  s.open(assets("demo.mesh"));
+  s.open(test::asset_file("demo.mesh"));
   SettingsDraft d;
   CHECK(d.follow(s.settings()));
   CHECK_FALSE(d.pending());
@@ -351,24 +340,24 @@ TEST_CASE("editor open: a loaded metric is used as given (no gradation, no bound
   MetricSettings graded;
   graded.hgrad = 1.3;
   graded.hmin = 0.01;
-  s.open(assets("demo.mesh"));
+  s.open(test::asset_file("demo.mesh"));
   s.set_settings(graded);
-  s.open(assets("demo.mesh"), assets("demo.sol"));
+  s.open(test::asset_file("demo.mesh"), test::asset_file("demo.sol"));
   CHECK(s.settings().source == MetricSettings::Source::Sol);
   CHECK(s.settings().hgrad <= 1);
   CHECK(s.settings().hmin == 0);
   CHECK(std::isinf(s.settings().hmax));
   BuildReport report;
-  SurfaceMesh with = load_mesh(assets("demo.mesh"), &report);
-  attach_fields(with, read_sol(assets("demo.sol"), report.input_vertices), report);
+  SurfaceMesh with = load_mesh(test::asset_file("demo.mesh"), &report);
+  attach_fields(with, read_sol(test::asset_file("demo.sol"), report.input_vertices), report);
   const MetricField file = metric_from_field(with, {}, report.vertex_origin);
   REQUIRE(file.size() == s.metric().size());
   for (std::size_t i = 0; i < file.size(); ++i) REQUIRE(file[i].m == s.metric()[i].m);
   // Another mesh opened without a metric: the previous file is not offered for it.
   {
     EditorSession o;
-    o.open(assets("demo.mesh"), assets("demo.sol"));
-    o.open(assets("demo.mesh"));
+    o.open(test::asset_file("demo.mesh"), test::asset_file("demo.sol"));
+    o.open(test::asset_file("demo.mesh"));
     CHECK(o.settings().source == MetricSettings::Source::Iso);
     CHECK(o.settings().sol_path.empty());
   }
@@ -443,11 +432,11 @@ TEST_CASE("editor: a launch never changes an earlier session's autosave, and off
   std::string earlier;
   {
     Autosave a(autosaves.string(), std::time(nullptr) - 3600, 4242);
-    REQUIRE(a.write({"open " + assets("demo.mesh"), "metric iso 0.2", "step"}));
+    REQUIRE(a.write({"open " + test::asset_file("demo.mesh"), "metric iso 0.2", "step"}));
     earlier = a.path();
   }
   const auto earlier_time = fs::last_write_time(earlier);
-  const std::string earlier_bytes = slurp(earlier);
+  const std::string earlier_bytes = test::file_bytes(earlier);
   // The later launch, on another mesh (the cube), for about 15 s; with
   // xdotool, a Space key press once its window shows (one adaptation pass:
   // an edit its own autosave keeps).
@@ -463,17 +452,17 @@ TEST_CASE("editor: a launch never changes an earlier session's autosave, and off
       << "kill $pid; wait $pid' >'"
       << (dir / "stdout.txt").string() << "' 2>'" << (dir / "stderr.txt").string() << "'";
   std::system(cmd.str().c_str());
-  const std::string err = slurp(dir / "stderr.txt");
+  const std::string err = test::file_bytes(dir / "stderr.txt");
   INFO(err);
   CHECK(err.find("offering the autosave of an earlier session: " + earlier) != std::string::npos);
-  CHECK(slurp(earlier) == earlier_bytes);
+  CHECK(test::file_bytes(earlier) == earlier_bytes);
   CHECK(fs::last_write_time(earlier) == earlier_time);
   if (typing) {
     // The launch's own autosave: another file, on the cube, with the step.
     const auto listed = list_autosaves(autosaves.string(), earlier);
     REQUIRE(listed.size() == 1);
     CHECK(fs::path(listed[0].path).filename().string().rfind("cube-", 0) == 0);
-    CHECK(slurp(listed[0].path).find("\nstep\n") != std::string::npos);
+    CHECK(test::file_bytes(listed[0].path).find("\nstep\n") != std::string::npos);
   } else {
     MESSAGE("xdotool not installed: the launch made no edit (its own autosave not checked)");
   }

@@ -35,11 +35,8 @@ double dihedral_deg(const SurfaceMesh& m, Corner c) {
 }
 
 // Share of the input's sharp edges (dihedral >= 44.5 degrees) whose points at
-// 1/4, 1/2 and 3/4 lie within `tol` of a feature edge of the output.
-double sharp_edges_kept(const SurfaceMesh& in, const SurfaceMesh& out, double tol) {
-  std::vector<std::array<Vec3, 2>> features;
-  for (Corner c : out.edges())
-    if (is_feature_edge(out, c)) features.push_back({out.position(out.edge_from(c)), out.position(out.edge_to(c))});
+// 1/4, 1/2 and 3/4 lie within `tol` of one of the segments.
+double share_of_sharp_input_near(const SurfaceMesh& in, const std::vector<std::array<Vec3, 2>>& segments, double tol) {
   int samples = 0, kept = 0;
   for (Corner c : in.edges()) {
     if (!in.opposite(c).is_valid() || dihedral_deg(in, c) < 44.5) continue;
@@ -47,12 +44,20 @@ double sharp_edges_kept(const SurfaceMesh& in, const SurfaceMesh& out, double to
     for (double t : {0.25, 0.5, 0.75}) {
       const Vec3 x = a + t * (b - a);
       double best = INFINITY;
-      for (const auto& f : features) best = std::min(best, point_segment_distance2(x, f[0], f[1]));
+      for (const auto& f : segments) best = std::min(best, point_segment_distance2(x, f[0], f[1]));
       ++samples;
       if (std::sqrt(best) <= tol) ++kept;
     }
   }
   return samples ? static_cast<double>(kept) / samples : 1.0;
+}
+
+// The share above with the output's feature edges (tagged).
+double sharp_edges_kept(const SurfaceMesh& in, const SurfaceMesh& out, double tol) {
+  std::vector<std::array<Vec3, 2>> features;
+  for (Corner c : out.edges())
+    if (is_feature_edge(out, c)) features.push_back({out.position(out.edge_from(c)), out.position(out.edge_to(c))});
+  return share_of_sharp_input_near(in, features, tol);
 }
 
 // The same share, with the output's sharp edges taken from its geometry as
@@ -63,19 +68,7 @@ double sharp_edges_kept_in_shape(const SurfaceMesh& in, const SurfaceMesh& out, 
   for (Corner c : out.edges())
     if (!out.opposite(c).is_valid() || dihedral_deg(out, c) >= 25.0)
       sharp.push_back({out.position(out.edge_from(c)), out.position(out.edge_to(c))});
-  int samples = 0, kept = 0;
-  for (Corner c : in.edges()) {
-    if (!in.opposite(c).is_valid() || dihedral_deg(in, c) < 44.5) continue;
-    const Vec3 a = in.position(in.edge_from(c)), b = in.position(in.edge_to(c));
-    for (double t : {0.25, 0.5, 0.75}) {
-      const Vec3 x = a + t * (b - a);
-      double best = INFINITY;
-      for (const auto& f : sharp) best = std::min(best, point_segment_distance2(x, f[0], f[1]));
-      ++samples;
-      if (std::sqrt(best) <= tol) ++kept;
-    }
-  }
-  return samples ? static_cast<double>(kept) / samples : 1.0;
+  return share_of_sharp_input_near(in, sharp, tol);
 }
 
 // Share of the edges of `out` whose length in the isotropic metric of size h

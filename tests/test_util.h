@@ -7,6 +7,8 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,6 +22,17 @@ inline std::string shared_file(const std::string& relative) {
 // Path of a file under tests/data.
 inline std::string data_file(const std::string& relative) {
   return (std::filesystem::path(ANISURF_TEST_DATA_DIR) / relative).string();
+}
+// Path of a file of the project's assets/ (the demo).
+inline std::string asset_file(const std::string& name) {
+  return (std::filesystem::path(ANISURF_TEST_DATA_DIR) / ".." / ".." / "assets" / name).lexically_normal().string();
+}
+// The bytes of a file ("" if it cannot be read).
+inline std::string file_bytes(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
 }
 // A fresh temporary directory for a test's outputs.
 inline std::filesystem::path temp_dir(const std::string& name) {
