@@ -196,6 +196,7 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
   forget_input_state();
   MetricSettings s = settings_;
   MetricField m;
+  const double density = density_size(*input_);
   if (!sol_path.empty() || !embedded.empty()) {
     s.source = MetricSettings::Source::Sol;
     s.sol_path = sol_path.empty() ? mesh_path : sol_path;
@@ -213,7 +214,7 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
     // A default iso size from the mesh (its own density: density_size); the
     // settings of the previous mesh may not suit this one (an expression
     // undefined here, bounds): then the iso size without bounds.
-    const double h = density_size(*input_);
+    const double h = density;
     if (s.source == MetricSettings::Source::Iso) s.iso = h;
     try {
       m = compute_metric(s);
@@ -228,7 +229,7 @@ void EditorSession::open(const std::string& mesh_path, const std::string& sol_pa
   {
     const BBox b = input_->bbox();
     brush_.radius = std::max(norm(b.hi - b.lo) / 10.0, 1e-9);
-    brush_.size = 0.5 * density_size(*input_);
+    brush_.size = 0.5 * density;
   }
   base_metric_ = m;
   metric_ = std::move(m);
