@@ -88,6 +88,41 @@ TEST_CASE("output set: temporaries of dead processes are removed, a live one's k
   CHECK(std::filesystem::exists(dir / ("other.mesh.tmp-" + std::string(kDeadPid))));
 }
 
+TEST_CASE("output set: a commit interrupted between its renames is completed from its record") {
+  const auto dir = test::temp_dir("output_set_record");
+  const std::string a = (dir / "out.mesh").string(), b = (dir / "out.sol").string();
+  const std::string ta = (dir / (std::string("out.tmp-") + kDeadPid + ".mesh")).string();
+  const std::string tb = (dir / (std::string("out.tmp-") + kDeadPid + ".sol")).string();
+  // A dead writer's state after its first rename: the new mesh in place, the
+  // new sol still in its temporary, the record listing both.
+  std::ofstream(a) << "new mesh";
+  std::ofstream(b) << "old sol";
+  std::ofstream(tb) << "new sol";
+  std::ofstream(dir / (std::string("out.commit-") + kDeadPid)) << ta << '\t' << a << '\n' << tb << '\t' << b << "\nend\n";
+  // A record a dead writer did not finish writing, and a live writer's record.
+  std::ofstream(dir / (std::string("other.commit-") + kDeadPid + ".part")) << ta << '\t' << a << '\n';
+  const std::string live = "out.commit-" + std::to_string(::getpid());
+  std::ofstream(dir / live) << tb << '\t' << b << "\nend\n";
+  CHECK(finish_interrupted_commits(a) == 1);
+  CHECK(slurp(a) == "new mesh");
+  CHECK(slurp(b) == "new sol");
+  CHECK_FALSE(std::filesystem::exists(tb));
+  CHECK_FALSE(std::filesystem::exists(dir / (std::string("out.commit-") + kDeadPid)));
+  CHECK_FALSE(std::filesystem::exists(dir / (std::string("other.commit-") + kDeadPid + ".part")));
+  CHECK(std::filesystem::exists(dir / live));  // its writer still runs
+  std::filesystem::remove(dir / live);
+  // A committed set leaves no record behind.
+  {
+    OutputSet set;
+    std::ofstream(set.temporary(a)) << "newer mesh";
+    std::ofstream(set.temporary(b)) << "newer sol";
+    set.commit();
+  }
+  CHECK(slurp(b) == "newer sol");
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    CHECK(e.path().filename().string().find(".commit-") == std::string::npos);
+}
+
 TEST_CASE("anisurf adapt: mesh and metric written as a pair, a killed run's temporaries removed") {
   ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
   ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");

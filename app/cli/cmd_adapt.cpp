@@ -332,6 +332,10 @@ MetricField metric_of_input(const AdaptCommandLine& c, SurfaceMesh& t0, const Bu
 AdaptFiles read_adapt_inputs(AdaptCommandLine& c) {
   AdaptFiles f;
   BuildReport report;
+  // A mesh + .sol pair whose writer was killed between its renames is
+  // completed before it is read (never read half old, half new).
+  for (const std::string& path : {c.in, c.metric.sol, c.interpolate})
+    if (!path.empty()) finish_interrupted_commits(path);
   f.input.mesh = load_mesh(c.in, &report, c.build);
   f.input.vertex_origin = report.vertex_origin;
   if (c.metric_from_input) f.sol_metric = metric_of_input(c, f.input.mesh, report);

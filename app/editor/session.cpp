@@ -132,6 +132,9 @@ std::shared_ptr<const Snapshot> EditorSession::initial_snapshot() const {
 }
 
 void EditorSession::open(const std::string& mesh_path, const std::string& sol_path) {
+  // A pair whose writer was killed between its renames is completed first.
+  for (const std::string& p : {mesh_path, sol_path})
+    if (!p.empty()) finish_interrupted_commits(p);
   BuildReport report;
   auto mesh = std::make_unique<SurfaceMesh>(load_mesh(mesh_path, &report));
   if (mesh->n_triangles() == 0) throw Error(mesh_path + ": the mesh has no triangles");

@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 
 #include "core/error.h"
 
@@ -46,6 +47,37 @@ bool is_dead_pid(const std::string& s) {
   return pid > 0 && ::kill(pid, 0) != 0 && errno == ESRCH;
 }
 
+// Flushes a directory's entries (the renames and creations in it) to disk;
+// best effort: some file systems refuse fsync on a directory.
+void sync_directory(const std::string& dir) {
+  const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY);
+  if (fd < 0) return;
+  ::fsync(fd);
+  ::close(fd);
+}
+
+std::string directory_of(const std::string& path) {
+  const std::filesystem::path p = std::filesystem::path(path).parent_path();
+  return p.empty() ? std::string(".") : p.string();
+}
+
+constexpr const char* kRecordTag = ".commit-";
+constexpr const char* kRecordPartTag = ".part";
+
+// Parses a commit record: one "temporary\ttarget" line per file, then a line
+// "end" (absent when the writer died while writing the record: returns false).
+bool read_commit_record(const std::string& record, std::vector<std::pair<std::string, std::string>>& renames) {
+  std::ifstream in(record, std::ios::binary);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line == "end") return true;
+    const std::size_t tab = line.find('\t');
+    if (tab == std::string::npos) return false;
+    renames.emplace_back(line.substr(0, tab), line.substr(tab + 1));
+  }
+  return false;
+}
+
 }  // namespace
 
 void AtomicFile::commit() {
@@ -76,12 +108,73 @@ std::string OutputSet::temporary(const std::string& path) {
   return files_.back().first;
 }
 
+std::string OutputSet::write_commit_record() const {
+  namespace fs = std::filesystem;
+  const fs::path first(files_.front().second);
+  const std::string record =
+      (fs::path(directory_of(first.string())) / (first.stem().string() + kRecordTag + std::to_string(::getpid()))).string();
+  const std::string part = record + kRecordPartTag;
+  {
+    std::ofstream out(part, std::ios::binary | std::ios::trunc);
+    for (const auto& [tmp, path] : files_) out << fs::absolute(tmp).string() << '\t' << fs::absolute(path).string() << '\n';
+    out << "end\n";
+    out.flush();
+    if (!out) {
+      std::remove(part.c_str());
+      throw IoError(record + ": cannot write the commit record (disk full or permission denied?)");
+    }
+  }
+  try {
+    sync_file(part, record);
+  } catch (...) {
+    std::remove(part.c_str());
+    throw;
+  }
+  if (std::rename(part.c_str(), record.c_str()) != 0) {
+    std::remove(part.c_str());
+    throw IoError(record + ": cannot rename the commit record (" + std::strerror(errno) + ")");
+  }
+  sync_directory(directory_of(record));
+  return record;
+}
+
 void OutputSet::commit() {
   for (const auto& [tmp, path] : files_) sync_file(tmp, path);
+  const std::string record = files_.size() > 1 ? write_commit_record() : std::string();
   for (const auto& [tmp, path] : files_)
     if (std::rename(tmp.c_str(), path.c_str()) != 0)
       throw IoError(path + ": cannot rename its temporary file (" + std::strerror(errno) + ")");
   committed_ = true;
+  if (!record.empty()) {
+    for (const auto& f : files_) sync_directory(directory_of(f.second));
+    std::remove(record.c_str());
+  }
+}
+
+int finish_interrupted_commits(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  int finished = 0;
+  for (const auto& entry : fs::directory_iterator(directory_of(path), ec)) {
+    const std::string f = entry.path().filename().string();
+    const std::size_t at = f.rfind(kRecordTag);
+    if (at == std::string::npos) continue;
+    std::string pid = f.substr(at + std::string(kRecordTag).size());
+    const bool part = pid.size() > std::string(kRecordPartTag).size() &&
+                      pid.compare(pid.size() - std::string(kRecordPartTag).size(), std::string::npos, kRecordPartTag) == 0;
+    if (part) pid.resize(pid.size() - std::string(kRecordPartTag).size());
+    if (!is_dead_pid(pid)) continue;
+    std::vector<std::pair<std::string, std::string>> renames;
+    if (!part && read_commit_record(entry.path().string(), renames)) {
+      for (const auto& [tmp, target] : renames)
+        if (fs::exists(tmp, ec) && std::rename(tmp.c_str(), target.c_str()) != 0)
+          throw IoError(target + ": cannot complete an interrupted write (renaming " + tmp + ": " +
+                        std::strerror(errno) + ")");
+      ++finished;
+    }
+    fs::remove(entry.path(), ec);
+  }
+  return finished;
 }
 
 OutputSet::~OutputSet() {
@@ -91,6 +184,7 @@ OutputSet::~OutputSet() {
 
 int remove_stale_temporaries(const std::string& path) {
   namespace fs = std::filesystem;
+  finish_interrupted_commits(path);
   const fs::path p(path);
   const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
   const std::string name = p.filename().string(), stem = p.stem().string(), ext = p.extension().string();
