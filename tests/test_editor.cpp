@@ -833,3 +833,54 @@ TEST_CASE("editor: defaults at the model's scale: the iso size keeps the input's
   MESSAGE("demo: iso " << unit.settings().iso << " for " << unit.input().n_vertices() << " vertices, predicted "
                        << unit.predicted_vertices());
 }
+
+TEST_CASE("editor: the size legend follows painted values beyond its range, and keeps its ends otherwise") {
+  EditorSession s;
+  s.open(demo_mesh(), demo_sol());
+  ViewState v;
+  v.color = render::quantity::kSize;
+  EditorView ev;
+  render::Scene scene;
+  auto update = [&] {
+    ev.update(s, v, scene, 1.6f, 0, 0);
+    for (int i = 0; i < 2000 && !ev.settled(s, v); ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      ev.update(s, v, scene, 1.6f, 0, 0);
+    }
+    REQUIRE(ev.settled(s, v));
+  };
+  auto size_range = [&]() -> std::array<float, 2> {
+    for (const auto& st : scene.surfaces)
+      if (st.name == "mesh")
+        for (const auto& q : st.scalars)
+          if (q.name == render::quantity::kSize) return {q.range_min, q.range_max};
+    FAIL("no size quantity shown");
+    return {0, 0};
+  };
+  update();
+  const std::array<float, 2> r0 = size_range();
+  REQUIRE(r0[0] > 0);
+  // A dab of a size inside the range: the ends stay (the colours elsewhere keep their meaning).
+  Brush& b = s.brush();
+  b.radius = 0.3;
+  b.stretch = 1;
+  b.strength = 1;
+  b.size = std::sqrt(static_cast<double>(r0[0]) * r0[1]);
+  s.dab(Vec3(1, 0, 0));
+  s.end_stroke();
+  update();
+  CHECK(size_range()[0] == r0[0]);
+  CHECK(size_range()[1] == r0[1]);
+  // Dabs far above and below it: the legend's ends reach the painted sizes.
+  b.size = 4.0 * r0[1];
+  s.dab(Vec3(-1, 0, 0));
+  s.end_stroke();
+  update();
+  CHECK(size_range()[1] >= 0.95f * static_cast<float>(b.size));
+  b.size = 0.25 * r0[0];
+  s.dab(Vec3(0, 1, 0));
+  s.end_stroke();
+  update();
+  CHECK(size_range()[0] <= 1.05f * static_cast<float>(b.size));
+  CHECK(size_range()[1] >= 0.95f * static_cast<float>(4.0 * r0[1]));
+}

@@ -149,7 +149,12 @@ render::MeshStructure build_mesh(const Snapshot& snap, const SurfaceDistance* di
   render::MeshStructure ms = render::make_mesh_structure(m, kMeshName, o);
   for (auto& q : ms.structure.scalars)
     for (const auto& [name, r] : kept)
-      if (q.name == name) q.range_min = r[0], q.range_max = r[1];
+      if (q.name == name) {
+        // Widened to the new values' own range: painted sizes beyond the
+        // kept ends move the legend's ends instead of saturating.
+        q.range_min = std::min(r[0], q.range_min);
+        q.range_max = std::max(r[1], q.range_max);
+      }
   ms.structure.categories.push_back(placement_categories(ms, snap));
   // The vertices the displayed pass created, kept or moved.
   if (snap.has_report && !snap.report.touched.empty()) {
@@ -213,9 +218,10 @@ double EditorView::bezier_build_seconds() const {
 }
 
 void EditorView::start_mesh(const ViewState& view, const EditorSession& session, const NextState& next) {
-  // Metric edits on the same input keep the colour ranges (so painting
-  // changes the colours only where it changes the metric); another mesh, a
-  // pass or a new file take the ranges of their data.
+  // Metric edits on the same input keep the colour ranges, widened to cover
+  // the new values (so painting changes the colours only where it changes
+  // the metric, and the legend spans what was painted); another mesh, a pass
+  // or a new file take the ranges of their data.
   std::vector<std::pair<std::string, std::array<float, 2>>> kept;
   const bool keep = kept_for_ == session.opened() && !next.snapshot->has_report && kept_initial_ &&
                     kept_settings_ == session.settings();
