@@ -10,6 +10,7 @@
 #include <memory>
 #include <numbers>
 #include <random>
+#include <unordered_map>
 
 #include "geometry/features.h"
 #include "io/mesh_io.h"
@@ -749,4 +750,54 @@ TEST_CASE("remesh: the schedule walks round_plan() round after round, at most ma
     }
   }
   check_state(*s->adapted, "two rounds");
+}
+
+TEST_CASE("remesh: EdgeStamps finds, reassigns and erases like a map, through growth and wrapped probe runs") {
+  EdgeStamps table;
+  std::unordered_map<std::uint64_t, std::uint32_t> reference;
+  std::mt19937 rng(7);
+  // Few distinct vertices: many collisions and long probe runs.
+  std::uniform_int_distribution<int> vertex(0, 400), action(0, 9);
+  for (int step = 0; step < 200000; ++step) {
+    const int a = vertex(rng), b = vertex(rng);
+    const std::uint64_t k = EdgeStamps::key(a, b);
+    REQUIRE(k == EdgeStamps::key(b, a));
+    const int what = action(rng);
+    if (what < 6) {
+      table.assign(k, static_cast<std::uint32_t>(step));
+      reference[k] = static_cast<std::uint32_t>(step);
+    } else if (what < 9) {
+      table.erase(k);
+      reference.erase(k);
+    } else {
+      const std::uint32_t* found = table.find(k);
+      const auto it = reference.find(k);
+      REQUIRE((found != nullptr) == (it != reference.end()));
+      if (found) CHECK(*found == it->second);
+    }
+  }
+  CHECK(table.size() == reference.size());
+  for (const auto& [k, v] : reference) {
+    const std::uint32_t* found = table.find(k);
+    REQUIRE(found);
+    CHECK(*found == v);
+  }
+  CHECK(table.bytes() <= 12 * 4 * (reference.size() + 1024));
+  table.clear();
+  CHECK(table.size() == 0);
+  CHECK(table.find(EdgeStamps::key(1, 2)) == nullptr);
+}
+
+TEST_CASE("remesh: EdgeStamps drops the entries its keep test refuses when it fills up, and keeps the others") {
+  EdgeStamps table;
+  // Odd stamps are stale.
+  auto keep = [](std::uint64_t, std::uint32_t stamp) { return stamp % 2 == 0; };
+  for (int i = 0; i < 5000; ++i) table.assign(EdgeStamps::key(i, i + 1), static_cast<std::uint32_t>(i), keep);
+  CHECK(table.size() < 5000);  // rebuilt at least once, without the odd ones seen then
+  for (int i = 0; i < 5000; i += 2) {
+    const std::uint32_t* found = table.find(EdgeStamps::key(i, i + 1));
+    REQUIRE(found);
+    CHECK(*found == static_cast<std::uint32_t>(i));
+  }
+  CHECK(table.bytes() <= 12 * 8192);
 }

@@ -580,10 +580,10 @@ SwapPlan can_swap(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     return plan;
   }
   // can_flip (mesh/operators.h) without its one-ring vector: the opposite
-  // triangle differs, and the new diagonal a-e is not an edge already.
+  // triangle differs here, and the new diagonal a-e is not an edge already
+  // (a walk around a: checked once the cheap tests below pass).
   const Corner oc = mesh.opposite(c);
-  if (M::triangle(oc) == M::triangle(c) || mesh.vertex(c) == mesh.vertex(oc) ||
-      find_edge_corner(mesh, mesh.vertex(c), mesh.vertex(oc)).is_valid()) {
+  if (M::triangle(oc) == M::triangle(c) || mesh.vertex(c) == mesh.vertex(oc)) {
     plan.why = Rejection::Topology;
     return plan;
   }
@@ -617,6 +617,10 @@ SwapPlan can_swap(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
       std::min(m.quality_in_one_metric({pa, pb, pe}, {Ma, Mb, Me}), m.quality_in_one_metric({pe, pd, pa}, {Me, Md, Ma}));
   if (!(plan.quality_after > o.swap_gain * plan.quality_before)) {
     plan.why = Rejection::Quality;
+    return plan;
+  }
+  if (find_edge_corner(mesh, a, e).is_valid()) {
+    plan.why = Rejection::Topology;
     return plan;
   }
   const Hint &ha = m.hint_g(a), &hb = m.hint_g(b), &hd = m.hint_g(d), &he = m.hint_g(e);

@@ -51,6 +51,16 @@ class EdgeHeap {
   std::vector<EdgeItem>& items_;
 };
 
+// The corner naming edge a -> b: `hint` while it still names it (the corner
+// recorded when the edge was queued), else found around a.
+Corner edge_corner(const SurfaceMesh& mesh, int hint, Vertex a, Vertex b) {
+  if (hint >= 0 && hint < mesh.corner_capacity()) {
+    const Corner c(hint);
+    if (!mesh.is_deleted(M::triangle(c)) && mesh.edge_from(c) == a && mesh.edge_to(c) == b) return c;
+  }
+  return find_edge_corner(mesh, a, b);
+}
+
 std::array<int, 2> key(Vertex a, Vertex b) { return a.idx < b.idx ? std::array{a.idx, b.idx} : std::array{b.idx, a.idx}; }
 
 // Counts a refusal of the operator of a `pass` pass (PassKind::Final: the
@@ -141,20 +151,24 @@ void Remesher::mark_all() {
 }
 
 bool Remesher::edge_sags(Vertex a, Vertex b) {
-  const auto k = key(a, b);
-  const std::uint64_t edge = static_cast<std::uint64_t>(static_cast<std::uint32_t>(k[0])) << 32 |
-                             static_cast<std::uint32_t>(k[1]);
+  const std::uint64_t edge = EdgeStamps::key(a.idx, b.idx);
   auto marked_at = [&](Vertex v) {
     const std::size_t i = static_cast<std::size_t>(v.idx);
     return i < marked_at_.size() ? marked_at_[i] : std::uint64_t{0};
   };
-  const auto found = flat_edges_.find(edge);
-  if (found != flat_edges_.end()) {
-    if (marked_at(a) <= found->second && marked_at(b) <= found->second) return false;
-    flat_edges_.erase(found);
+  if (const std::uint32_t* found = flat_edges_.find(edge)) {
+    if (marked_at(a) <= *found && marked_at(b) <= *found) return false;
+    flat_edges_.erase(edge);
   }
   const bool sags = edge_sags_off_input(mesh_, a, b, options_.op);
-  if (!sags) flat_edges_.emplace(edge, marks_);
+  // The memo's stamps are 32-bit: past 2^32 marks it is not filled any more.
+  // Entries of edges with an end marked since are stale (gone or changed):
+  // dropped when the table fills up.
+  if (!sags && marks_ <= std::numeric_limits<std::uint32_t>::max())
+    flat_edges_.assign(edge, static_cast<std::uint32_t>(marks_), [&](std::uint64_t k, std::uint32_t stamp) {
+      return marked_at(Vertex(static_cast<int>(k >> 32))) <= stamp &&
+             marked_at(Vertex(static_cast<int>(k & 0xffffffffu))) <= stamp;
+    });
   return sags;
 }
 
@@ -276,7 +290,7 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
   for (Corner c : mesh.edges()) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     const double l = mesh_.length(a, b);
-    if (Edges::outside(sags, a, b, l, o)) heap.push({l, a.idx, b.idx});
+    if (Edges::outside(sags, a, b, l, o)) heap.push({l, a.idx, b.idx, c.idx});
   }
   // Splits only add triangles, collapses only remove them: the budget
   // follows a refinement and keeps its start through a coarsening.
@@ -290,7 +304,7 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
   while (!heap.empty() && pops++ < budget() && !interrupted(r)) {
     const EdgeItem it = heap.pop();
     const Vertex a(it.a), b(it.b);
-    const Corner c = find_edge_corner(mesh, a, b);
+    const Corner c = edge_corner(mesh, it.corner, a, b);
     if (!c.is_valid() || !Edges::outside(sags, a, b, mesh_.length(a, b), o)) continue;
     if (in_cache(a, b, Edges::kind)) {  // Remark 5
       refuse(r, Edges::kind, Rejection::Cache);
@@ -306,7 +320,7 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
     if (!follow_new_edges || !v.is_valid()) continue;
     for (Vertex w : mesh.ring_vertices(v)) {
       const double l = mesh_.length(v, w);
-      if (Edges::outside(sags, v, w, l, o)) heap.push({l, v.idx, w.idx});
+      if (Edges::outside(sags, v, w, l, o)) heap.push({l, v.idx, w.idx, -1});
     }
   }
   return changes;
@@ -343,19 +357,19 @@ void Remesher::collapse_pass(PassReport& r) { priority_pass<CollapseEdges>(r, tr
 
 void Remesher::swap_pass(PassReport& r) {
   SurfaceMesh& mesh = mesh_.mesh();
-  std::deque<std::array<int, 2>> queue;
+  std::deque<std::array<int, 3>> queue;  // a, b, the corner naming a -> b when queued
   std::vector<std::uint8_t> active(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
   swap_active_.resize(active.size(), 0);
   active.swap(swap_active_);
   for (Corner c : mesh.edges()) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
-    if (!mesh.is_boundary_edge(c) && (active[a.idx] || active[b.idx])) queue.push_back({a.idx, b.idx});
+    if (!mesh.is_boundary_edge(c) && (active[a.idx] || active[b.idx])) queue.push_back({a.idx, b.idx, c.idx});
   }
   long long budget = static_cast<long long>(options_.max_swap_visits) * static_cast<long long>(queue.size()) + 16;
   while (!queue.empty() && budget-- > 0 && !interrupted(r)) {
     const auto e = queue.front();
     queue.pop_front();
-    const Corner c = find_edge_corner(mesh, Vertex(e[0]), Vertex(e[1]));
+    const Corner c = edge_corner(mesh, e[2], Vertex(e[0]), Vertex(e[1]));
     if (!c.is_valid()) continue;
     const SwapPlan plan = can_swap(mesh_, c, options_.op);
     if (plan.why != Rejection::None) {
@@ -367,7 +381,7 @@ void Remesher::swap_pass(PassReport& r) {
     // Section 5.4: the four edges around the new diagonal are tried again.
     const Corner od = mesh.opposite(d);
     for (Corner x : {M::next(d), M::prev(d), M::next(od), M::prev(od)})
-      queue.push_back({mesh.edge_from(x).idx, mesh.edge_to(x).idx});
+      queue.push_back({mesh.edge_from(x).idx, mesh.edge_to(x).idx, x.idx});
     for (Corner x : {d, od}) {
       record_touched(r, mesh.vertex(x));
       record_touched(r, mesh.edge_from(x));

@@ -17,10 +17,10 @@
 #include <deque>
 #include <functional>
 #include <string_view>
-#include <unordered_map>
 #include <vector>
 
 #include "metric/mesh_quality.h"
+#include "remesh/edge_stamps.h"
 #include "remesh/operators.h"
 
 namespace anisurf::remesh {
@@ -200,6 +200,7 @@ class Remesher {
   struct EdgeItem {  // an edge waiting in the split or collapse heap
     double length;
     int a, b;
+    int corner;  // the corner naming a -> b when pushed (valid while it still does)
   };
   // The adapted mesh must outlive the remesher.
   explicit Remesher(AdaptedMesh& mesh, const RemeshOptions& options = {});
@@ -336,7 +337,7 @@ class Remesher {
   std::vector<std::uint8_t> touched_mark_;  // per vertex slot: in the pass's touched list
   std::uint64_t marks_ = 0;                 // marks so far
   std::vector<std::uint64_t> marked_at_;    // per vertex slot: marks_ at its last mark
-  std::unordered_map<std::uint64_t, std::uint64_t> flat_edges_;  // edge key -> marks_ when found not to sag
+  EdgeStamps flat_edges_;  // edge -> marks_ when found not to sag
 };
 
 }  // namespace anisurf::remesh
