@@ -799,5 +799,5 @@ TEST_CASE("remesh: EdgeStamps drops the entries its keep test refuses when it fi
     REQUIRE(found);
     CHECK(*found == static_cast<std::uint32_t>(i));
   }
-  CHECK(table.bytes() <= 12 * 8192);
+  CHECK(table.bytes() <= 12 * 2 * 5000);
 }
