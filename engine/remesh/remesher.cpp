@@ -290,7 +290,7 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
   for (Corner c : mesh.edges()) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     const double l = mesh_.length(a, b);
-    if (Edges::outside(sags, a, b, l, o)) heap.push({l, a.idx, b.idx, c.idx});
+    if (Edges::outside(sags, a, b, l, o)) heap.push({static_cast<float>(l), a.idx, b.idx, c.idx});
   }
   // Splits only add triangles, collapses only remove them: the budget
   // follows a refinement and keeps its start through a coarsening.
@@ -320,7 +320,7 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
     if (!follow_new_edges || !v.is_valid()) continue;
     for (Vertex w : mesh.ring_vertices(v)) {
       const double l = mesh_.length(v, w);
-      if (Edges::outside(sags, v, w, l, o)) heap.push({l, v.idx, w.idx, -1});
+      if (Edges::outside(sags, v, w, l, o)) heap.push({static_cast<float>(l), v.idx, w.idx, -1});
     }
   }
   return changes;
