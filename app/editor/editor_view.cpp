@@ -218,15 +218,16 @@ double EditorView::bezier_build_seconds() const {
 }
 
 void EditorView::start_mesh(const ViewState& view, const EditorSession& session, const NextState& next) {
-  // Metric edits on the same input keep the colour ranges, widened to cover
-  // the new values (so painting changes the colours only where it changes
-  // the metric, and the legend spans what was painted); another mesh, a pass
-  // or a new file take the ranges of their data.
+  // Metric edits on the same input keep the colour ranges of the data as
+  // last reset, widened to cover the new values (so painting changes the
+  // colours only where it changes the metric, the legend spans what was
+  // painted, and undoing every edit gives the first picture back); another
+  // mesh, a pass or a new file take the ranges of their data.
   std::vector<std::pair<std::string, std::array<float, 2>>> kept;
   const bool keep = kept_for_ == session.opened() && !next.snapshot->has_report && kept_initial_ &&
                     kept_settings_ == session.settings();
-  if (keep)
-    for (const auto& q : mesh_.structure.scalars) kept.push_back({q.name, {q.range_min, q.range_max}});
+  if (keep) kept = base_ranges_;
+  mesh_job_keeps_ = keep;
   mesh_job_of_ = next.snapshot;
   mesh_job_opened_ = session.opened();
   mesh_job_settings_ = session.settings();
@@ -253,6 +254,10 @@ bool EditorView::collect_mesh() {
   kept_for_ = mesh_job_opened_;
   kept_initial_ = !shown_->has_report;
   kept_settings_ = mesh_job_settings_;
+  if (!mesh_job_keeps_) {
+    base_ranges_.clear();
+    for (const auto& q : mesh_.structure.scalars) base_ranges_.push_back({q.name, {q.range_min, q.range_max}});
+  }
   return true;
 }
 

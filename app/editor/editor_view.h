@@ -5,10 +5,14 @@
 // The G1 surface is built in a thread of its own (seconds on a large mesh):
 // the view shows what it showed before until it is ready.
 #pragma once
+#include <array>
 #include <chrono>
 #include <future>
 #include <memory>
 #include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "editor/session.h"
 #include "editor/view_state.h"
@@ -118,6 +122,11 @@ class EditorView {
   int kept_for_ = -1;           // session.opened() the ranges belong to
   bool kept_initial_ = false;   // the last structure showed the initial state
   MetricSettings kept_settings_;  // and was made with these settings
+  // The colour ranges taken from the data when they were last reset (a new
+  // mesh, a pass, new settings); metric edits show them widened to the
+  // current values, so undoing the edits gives these ranges back.
+  std::vector<std::pair<std::string, std::array<float, 2>>> base_ranges_;
+  bool mesh_job_keeps_ = false;  // the job in flight widens base_ranges_
   std::uint64_t counter_ = 1000;
   std::chrono::steady_clock::time_point last_rebuild_;  // structure versions (the renderer re-uploads on a change)
 };
