@@ -5,6 +5,17 @@ figures (Mmg 5.8.0 mmgs, from ../shared/bench/README.md).
 
 usage: bench_remesh.py [--anisurf BIN] [--shared DIR] [--out DIR] [--large]
                        [--cases a,b] [--profiles default,paper] [-- extra adapt options]
+       bench_remesh.py --peer [--mmgs BIN] [--repeat N] [--cases a,b] [--scaling]
+
+--peer: the performance table of issue #16, anisurf and Mmg 5.8.0's mmgs run side
+by side in this run on the same inputs (the only meaningful ratio on a shared
+machine): isotropic refinements of sphere20k to size 0.02 (~80k triangles) and
+0.004 (~1.8M; mmgs given a scalar .sol, its isotropic code), the coarsening
+sphere500k_band -hgrad -1 and the anisotropic sphere20k_bandfine. Per tool: T,
+wall time and peak RSS (the median of --repeat runs), bytes per output triangle,
+% of edges in band and q min / mean by eval.py; the ratio mmgs time / anisurf
+time. --scaling adds the isotropic series of sphere20k at sizes giving about
+10k, 100k, 1M and 3M triangles, with the time per triangle and its spread.
 
 Profiles: `default` runs `anisurf adapt` with its defaults (lmin 0.72, lmax 1.4:
 the edges end in eval.py's band [1/sqrt2, sqrt2]); `paper` with the report's
@@ -55,6 +66,48 @@ LARGE = {
 }
 
 
+# Issue #16's cases: name -> (mesh, sol or None, isotropic size or None, adapt / mmgs options, eval spec).
+PEER_CASES = {
+    "iso80k": ("sphere20k.mesh", None, 0.02, [], "iso:0.02"),
+    "iso1.8M": ("sphere20k.mesh", None, 0.004, [], "iso:0.004"),
+    "sphere500k_band_nograd": ("@out/sphere500k.mesh", "@out/sphere500k_band.sol", None, ["-hgrad", "-1"], "band"),
+    "sphere20k_bandfine": ("sphere20k.mesh", "sphere20k_bandfine.sol", None, [], "bandfine"),
+}
+# Sizes of the scaling series on sphere20k (the unit sphere: about 29 / h^2 triangles).
+SCALING_SIZES = [0.054, 0.017, 0.0054, 0.0031]
+
+
+def find_mmgs():
+    import shutil
+    for p in (shutil.which("mmgs_O3"), shutil.which("mmgs"), "/tmp/mmg-peer/mmg/build/bin/mmgs_O3"):
+        if p and os.path.exists(p):
+            return p
+    return None
+
+
+def mesh_vertex_count(path):
+    """The vertex count of a Medit .mesh (the number after the Vertices keyword)."""
+    with open(path) as f:
+        words = iter(f.read(1 << 22).split())
+        for w in words:
+            if w == "Vertices":
+                return int(next(words))
+    raise ValueError(path + ": no Vertices")
+
+
+def write_scalar_sol(path, n, h):
+    """A SolAtVertices of type 1 (scalar sizes): mmgs's isotropic code."""
+    with open(path, "w") as f:
+        f.write("MeshVersionFormatted 2\n\nDimension 3\n\nSolAtVertices\n%d\n1 1\n\n" % n)
+        f.write(("%.17g\n" % h) * n)
+        f.write("\nEnd\n")
+
+
+def median(xs):
+    xs = sorted(xs)
+    return xs[len(xs) // 2] if len(xs) % 2 else 0.5 * (xs[len(xs) // 2 - 1] + xs[len(xs) // 2])
+
+
 def run_measured(cmd):
     """Runs cmd; returns (wall seconds, peak RSS MB, stdout)."""
     t0 = time.monotonic()
@@ -72,6 +125,79 @@ def fmt(x, spec):
     return "-" if x is None else format(x, spec)
 
 
+def evaluate(evaluator, mesh, spec, sphere=True):
+    ev = [sys.executable, evaluator, mesh, "--metric", spec, "--json"] + (["--sphere"] if sphere else [])
+    return json.loads(subprocess.run(ev, check=True, capture_output=True, text=True).stdout)
+
+
+def peer_tables(a):
+    """Issue #16's table: anisurf and mmgs side by side, then the scaling series."""
+    mmgs = a.mmgs or find_mmgs()
+    if not mmgs:
+        sys.exit("no mmgs: build it with ../shared/peers/build-mmg.sh /tmp/mmg-peer or pass --mmgs")
+    os.makedirs(a.out, exist_ok=True)
+    inputs = os.path.join(a.shared, "bench", "inputs")
+    evaluator = os.path.join(a.shared, "bench", "eval.py")
+    names = a.cases.split(",") if a.cases else list(PEER_CASES)
+    if any(PEER_CASES[n][0].startswith("@out/") for n in names) and not os.path.exists(
+            os.path.join(a.out, "sphere500k_band.sol")):
+        print("making sphere500k with gen.py ...", file=sys.stderr)
+        subprocess.run([sys.executable, os.path.join(a.shared, "bench", "gen.py"), a.out, "sphere500k"], check=True,
+                       stdout=subprocess.DEVNULL)
+
+    def path_of(name):
+        return os.path.join(a.out, name[5:]) if name.startswith("@out/") else os.path.join(inputs, name)
+
+    def measure(cmd, out_mesh, spec):
+        runs = [run_measured(cmd) for _ in range(a.repeat)]
+        e = evaluate(evaluator, out_mesh, spec)
+        return {"seconds": median([r[0] for r in runs]), "rss_mb": median([r[1] for r in runs]), "nt": e["nt"],
+                "nv": e["nv"], "in_band_pct": e["len_in_range_pct"], "q_min": e["q_min"], "q_mean": e["q_mean"]}
+
+    print("| case | tool | T | time s | RSS MB | bytes/T | % in band | q min / mean | mmgs time / anisurf time |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    rows = []
+    for name in names:
+        mesh, sol, size, opts, spec = PEER_CASES[name]
+        mesh = path_of(mesh)
+        base = os.path.join(a.out, "peer_" + name)
+        an_cmd = [a.anisurf, "adapt", mesh, "-o", base + "_anisurf.mesh", "-v", "0"] + opts + a.extra
+        if size is not None:
+            an_cmd += ["--size", "%.17g" % size]
+            sol_path = base + "_scalar.sol"
+            write_scalar_sol(sol_path, mesh_vertex_count(mesh), size)
+        else:
+            sol_path = path_of(sol)
+            an_cmd += ["-sol", sol_path]
+        mm_cmd = [mmgs, mesh, "-sol", sol_path, "-out", base + "_mmgs.mesh", "-v", "0"] + opts
+        an = measure(an_cmd, base + "_anisurf.mesh", spec)
+        mm = measure(mm_cmd, base + "_mmgs.mesh", spec)
+        for tool, r in (("anisurf", an), ("mmgs", mm)):
+            ratio = "%.2f" % (mm["seconds"] / an["seconds"]) if tool == "anisurf" else ""
+            print(f"| {name} | {tool} | {r['nt']} | {r['seconds']:.2f} | {r['rss_mb']:.0f} | "
+                  f"{r['rss_mb'] * 1048576 / max(r['nt'], 1):.0f} | {r['in_band_pct']:.1f} | "
+                  f"{r['q_min']:.3f} / {r['q_mean']:.3f} | {ratio} |", flush=True)
+        rows.append({"case": name, "anisurf": an, "mmgs": mm})
+    if a.scaling:
+        print()
+        print("| size | T | time s | us / triangle | RSS MB | bytes/T | % in band |")
+        print("|---|---|---|---|---|---|---|")
+        per = []
+        for h in SCALING_SIZES:
+            out_mesh = os.path.join(a.out, "scaling_%g.mesh" % h)
+            cmd = [a.anisurf, "adapt", os.path.join(inputs, "sphere20k.mesh"), "--size", "%.17g" % h, "-o", out_mesh,
+                   "-v", "0"] + a.extra
+            r = measure(cmd, out_mesh, "iso:%.17g" % h)
+            per.append(1e6 * r["seconds"] / r["nt"])
+            print(f"| {h} | {r['nt']} | {r['seconds']:.2f} | {per[-1]:.2f} | {r['rss_mb']:.0f} | "
+                  f"{r['rss_mb'] * 1048576 / r['nt']:.0f} | {r['in_band_pct']:.1f} |", flush=True)
+            rows.append({"case": "scaling_%g" % h, "anisurf": r})
+        print(f"\ntime per triangle: largest / smallest over the series = {max(per) / min(per):.2f}")
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump(rows, f, indent=1)
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -82,8 +208,15 @@ def main():
     ap.add_argument("--cases", default="")
     ap.add_argument("--json", default="", help="also write the rows as JSON to this file")
     ap.add_argument("--profiles", default="default")
+    ap.add_argument("--peer", action="store_true", help="issue #16's table: anisurf and mmgs side by side")
+    ap.add_argument("--mmgs", default=None, help="mmgs_O3 (default: on PATH, then /tmp/mmg-peer/mmg/build/bin)")
+    ap.add_argument("--repeat", type=int, default=1, help="--peer: runs per tool and case (the median is printed)")
+    ap.add_argument("--scaling", action="store_true", help="--peer: also the isotropic scaling series")
     ap.add_argument("extra", nargs="*", help="extra options for anisurf adapt (after --)")
     a = ap.parse_args()
+    if a.peer:
+        peer_tables(a)
+        return
     cases = dict(CASES)
     if a.large:
         cases.update(LARGE)
