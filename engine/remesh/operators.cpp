@@ -589,6 +589,21 @@ SwapPlan can_swap(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
   }
   const Vertex a = mesh.vertex(c), b = mesh.edge_from(c), d = mesh.edge_to(c), e = mesh.vertex(oc);
   const Vec3 &pa = mesh.position(a), &pb = mesh.position(b), &pd = mesh.position(d), &pe = mesh.position(e);
+  // The quality first: most swaps tried bring no gain, and this test reads
+  // the positions and metrics only.
+  const SymTensor3 &Ma = m.metric(a), &Mb = m.metric(b), &Md = m.metric(d), &Me = m.metric(e);
+  // Eq. 17 in one metric per triangle (AdaptedMesh::quality_in_one_metric):
+  // with per-edge metrics, the coarse triangles of a strongly varying metric
+  // read c_K = 0 and any swap "improved" them, into pairs of needles along
+  // long chords of the curved surface, which no split could refine later.
+  plan.quality_before =
+      std::min(m.quality_in_one_metric({pa, pb, pd}, {Ma, Mb, Md}), m.quality_in_one_metric({pe, pd, pb}, {Me, Md, Mb}));
+  plan.quality_after =
+      std::min(m.quality_in_one_metric({pa, pb, pe}, {Ma, Mb, Me}), m.quality_in_one_metric({pe, pd, pa}, {Me, Md, Ma}));
+  if (!(plan.quality_after > o.swap_gain * plan.quality_before)) {
+    plan.why = Rejection::Quality;
+    return plan;
+  }
   const Vec3 n1 = normalized(raw_normal(pa, pb, pd)), n2 = normalized(raw_normal(pe, pd, pb));
   const Vec3 navg = normalized(n1 + n2);
   const Limits lim(o);
@@ -604,19 +619,6 @@ SwapPlan can_swap(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
   const Vec3 m1 = normalized(raw_normal(pa, pb, pe)), m2 = normalized(raw_normal(pe, pd, pa));
   if (dot(m1, m2) < std::min(dot(n1, n2), cos_deg(0.5 * o.max_normal_turn_deg))) {
     plan.why = Rejection::Normal;
-    return plan;
-  }
-  const SymTensor3 &Ma = m.metric(a), &Mb = m.metric(b), &Md = m.metric(d), &Me = m.metric(e);
-  // Eq. 17 in one metric per triangle (AdaptedMesh::quality_in_one_metric):
-  // with per-edge metrics, the coarse triangles of a strongly varying metric
-  // read c_K = 0 and any swap "improved" them, into pairs of needles along
-  // long chords of the curved surface, which no split could refine later.
-  plan.quality_before =
-      std::min(m.quality_in_one_metric({pa, pb, pd}, {Ma, Mb, Md}), m.quality_in_one_metric({pe, pd, pb}, {Me, Md, Mb}));
-  plan.quality_after =
-      std::min(m.quality_in_one_metric({pa, pb, pe}, {Ma, Mb, Me}), m.quality_in_one_metric({pe, pd, pa}, {Me, Md, Ma}));
-  if (!(plan.quality_after > o.swap_gain * plan.quality_before)) {
-    plan.why = Rejection::Quality;
     return plan;
   }
   if (find_edge_corner(mesh, a, e).is_valid()) {
