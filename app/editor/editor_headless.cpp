@@ -41,6 +41,8 @@ int run_script_headless(const ScriptOptions& o) {
   bool quit = false;
   ScriptHost host;
   host.quit = [&] { quit = true; };
+  host.click = [&](float x, float y) { panels.click = glm::vec2(x, y); };
+  host.show_keys = [&](bool on) { panels.show_keys = on; };
   host.screenshot = [&](const std::string& png) {
     const auto t0 = std::chrono::steady_clock::now();
     session.wait();
@@ -60,6 +62,7 @@ int run_script_headless(const ScriptOptions& o) {
     // What waits for the camera's fit (the G1 surface's control net is built
     // around the view's centre) is built now.
     if (!ev.settled(session, view)) ev.update(session, view, scene, aspect, ui.left_reserve(W), ui.right_reserve(W));
+    ev.size_markers(scene, W, H);
     render::Image img = renderer->render(scene, ui_cb, W, H, 3);
     render::write_png(png, img);
     std::fprintf(stderr, "screenshot %s (%dx%d, %.2f s)\n", png.c_str(), W, H,
