@@ -40,7 +40,8 @@ namespace {
 // Updates the view until the displayed state is shown and the camera
 // requests are carried out (the structure is built in the background).
 void settle(EditorSession& s, ViewState& v, EditorView& ev, render::Scene& scene, float aspect) {
-  for (int i = 0; i < 4000 && (!ev.settled(s, v) || v.fit_request || v.view_request || v.frame_selection); ++i) {
+  for (int i = 0; i < 4000 && (!ev.settled(s, v) || v.fit_request || v.view_request || v.frame_selection || v.frame_element);
+       ++i) {
     ev.update(s, v, scene, aspect, 0, 0);
     if (!ev.settled(s, v)) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
@@ -289,6 +290,21 @@ TEST_CASE("editor layout: a status bar at the bottom, panels inside the window a
   CHECK_FALSE(p.click);
   draw_frames(r, s, v, p, scene, ui, W, H, 2);
   CHECK(p.pinned);  // stays without a click
+  // Its window's "Frame it" puts it at the centre of the view.
+  v.frame_element = p.pinned->element.triangle;
+  settle(s, v, ev, scene, static_cast<float>(W) / H);
+  {
+    const SurfaceMesh& m = s.display().snapshot->mesh;
+    const Triangle t(p.pinned->element.triangle);
+    const Vec3 c = (m.position(m.vertex(t, 0)) + m.position(m.vertex(t, 1)) + m.position(m.vertex(t, 2))) / 3.0;
+    const auto px = render::project_to_pixel(scene.camera, to_glm(c), W, H);
+    REQUIRE(px);
+    CHECK(std::abs(px->x - W / 2.0f) < 0.05f * W);
+    CHECK(std::abs(px->y - H / 2.0f) < 0.05f * H);
+    CHECK(ev.hover(scene, px->x, px->y, W, H)->triangle == p.pinned->element.triangle);
+  }
+  v.fit_request = true;
+  settle(s, v, ev, scene, static_cast<float>(W) / H);
   p.click = *off_mesh;
   draw_frames(r, s, v, p, scene, ui, W, H, 1);
   CHECK_FALSE(p.pinned);

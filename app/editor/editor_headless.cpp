@@ -49,7 +49,7 @@ int run_script_headless(const ScriptOptions& o) {
     session.analysis();  // the Analysis panel shows the displayed state's
     if (view.color == "distance") session.distance();  // the colours of the state shown, measured
     if (!renderer) renderer = std::make_unique<render::HeadlessRenderer>(W, H);
-    const bool fit = view.fit_request || view.frame_selection || view.view_request.has_value();
+    const bool fit = view.fit_request || view.frame_selection || view.frame_element || view.view_request.has_value();
     ViewState before = view;
     ev.update(session, view, scene, aspect, ui.left_reserve(W), ui.right_reserve(W));
     if (fit) {
@@ -57,6 +57,7 @@ int run_script_headless(const ScriptOptions& o) {
       renderer->render(scene, ui_cb, W, H, 2);
       view.fit_request = before.fit_request || before.view_request.has_value();
       view.frame_selection = before.frame_selection;
+      view.frame_element = before.frame_element;
       ev.update(session, view, scene, aspect, ui.left_reserve(W), ui.right_reserve(W));
     }
     // What waits for the camera's fit (the G1 surface's control net is built

@@ -454,7 +454,12 @@ void EditorView::update(EditorSession& session, ViewState& view, render::Scene& 
   }
   if (view.frame_selection) {
     view.frame_selection = false;
-    frame_worst(session, scene, aspect, reserve_left, reserve_right);
+    const Selection& sel = session.selection();
+    if (sel.active && sel.of == shown_) frame_triangle(sel.worst_triangle, scene, aspect, reserve_left, reserve_right);
+  }
+  if (view.frame_element) {
+    frame_triangle(*view.frame_element, scene, aspect, reserve_left, reserve_right);
+    view.frame_element.reset();
   }
 }
 
@@ -483,24 +488,28 @@ Vec3 facing_normal(const SurfaceMesh& m, Triangle t) {
 
 }  // namespace
 
-void EditorView::frame_worst(const EditorSession& session, render::Scene& scene, float aspect, float reserve_left,
-                             float reserve_right) const {
-  const Selection& sel = session.selection();
-  if (!sel.active || sel.worst_triangle < 0 || sel.of != shown_) return;
+void EditorView::frame_triangle(int slot, render::Scene& scene, float aspect, float reserve_left,
+                                float reserve_right) const {
+  if (!shown_) return;
   const SurfaceMesh& m = shown_->mesh;
-  const Triangle t(sel.worst_triangle);
-  if (sel.worst_triangle >= m.triangle_capacity() || m.is_deleted(t)) return;
+  const Triangle t(slot);
+  if (slot < 0 || slot >= m.triangle_capacity() || m.is_deleted(t)) return;
   Vec3 c;
   for (int k = 0; k < 3; ++k) c += m.position(m.vertex(t, k)) / 3.0;
   const BBox box = m.bbox();
   const double diagonal = norm(box.hi - box.lo);
   // Looking at the element's front along its normal; its corners pushed
-  // away from its centroid by 1 / kFrameFill are fitted, so that it spans
-  // about kFrameFill of the free part of the view (not less than a
+  // away from its centroid by 1 / kFrameFill, and their mirror images
+  // through it, are fitted: the centroid at the centre of the free part of
+  // the view, the element spanning about kFrameFill of it (not less than
   // 10^-4 of the diagonal around it).
   scene.camera.look_along(-to_glm(facing_normal(m, t)));
   std::vector<glm::vec3> pts;
-  for (int k = 0; k < 3; ++k) pts.push_back(to_glm(c + (m.position(m.vertex(t, k)) - c) / kFrameFill));
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 out = (m.position(m.vertex(t, k)) - c) / kFrameFill;
+    pts.push_back(to_glm(c + out));
+    pts.push_back(to_glm(c - out));  // symmetric: the centroid at the centre
+  }
   const glm::vec3 e = to_glm(Vec3(1, 1, 1) * (1e-4 * diagonal));
   pts.push_back(to_glm(c) - e);
   pts.push_back(to_glm(c) + e);

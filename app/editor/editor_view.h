@@ -105,9 +105,10 @@ class EditorView {
     double seconds = 0;
     MarkerCounts touched;
   };
-  // Turns and zooms the camera onto the selection's worst element.
-  void frame_worst(const EditorSession& session, render::Scene& scene, float aspect, float reserve_left,
-                   float reserve_right) const;
+  // Turns the camera to look at triangle `slot` of the shown state along
+  // its normal, from its front, and zooms until it spans about kFrameFill
+  // of the free part of the view. No-op for a deleted or unknown slot.
+  void frame_triangle(int slot, render::Scene& scene, float aspect, float reserve_left, float reserve_right) const;
   std::future<MeshBuilt> mesh_job_;
   std::shared_ptr<const Snapshot> mesh_job_of_;
   int mesh_job_opened_ = -1;

@@ -746,7 +746,7 @@ void pin_clicked(const render::Scene& scene, PanelState& p, int width, int heigh
 }
 
 // The pinned element's window (closed by its X, Unpin or Esc).
-void pinned_window(EditorSession& s, PanelState& p) {
+void pinned_window(EditorSession& s, ViewState& v, PanelState& p) {
   if (!p.pinned || !p.pinned->of || !names_triangle(*p.pinned->of, p.pinned->element)) {
     p.pinned.reset();
     return;
@@ -760,6 +760,11 @@ void pinned_window(EditorSession& s, PanelState& p) {
     element_info(s, *p.pinned->of, p.pinned->element);
     if (s.display().snapshot != p.pinned->of)
       ImGui::TextDisabled("(of the state shown when it was pinned, not the one shown now)");
+    if (p.view && p.pinned->of == p.view->shown_state()) {
+      if (ImGui::SmallButton("Frame it")) v.frame_element = p.pinned->element.triangle;
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("Look at it along its normal and zoom on it (F fits the mesh again)");
+      ImGui::SameLine();
+    }
     if (ImGui::SmallButton("Unpin")) open = false;
     ImGui::SameLine();
     ImGui::TextDisabled("(Esc; a click elsewhere pins another)");
@@ -1199,7 +1204,7 @@ void draw_panels(EditorSession& session, ViewState& view, PanelState& panels, re
     }
   }
   if (!view.paint_tool) hover_tooltip(session, panels);
-  pinned_window(session, panels);
+  pinned_window(session, view, panels);
   keys_window(panels);
   offer_window(session, view, panels);
   unsaved_dialog(session, view, panels);
