@@ -169,7 +169,8 @@ void on_key(GLFWwindow* w, int key, int, int action, int mods) {
 void apply_key_commands(GLFWwindow* w, App& a) {
   const auto commands = std::move(a.key_commands);
   a.key_commands.clear();
-  for (KeyCommand c : commands) try {
+  for (KeyCommand c : commands) {
+    try {
       if (!apply_key_command(c, a.session, a.view, a.panels)) {
         glfwSetWindowShouldClose(w, GLFW_TRUE);
         on_close(w);
@@ -178,6 +179,7 @@ void apply_key_commands(GLFWwindow* w, App& a) {
       a.panels.message = e.what();
       a.panels.message_is_error = true;
     }
+  }
 }
 
 // Every key event, to the window's keys and to Dear ImGui. ImGui (1.86)

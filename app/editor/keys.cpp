@@ -79,11 +79,11 @@ bool apply_key_command(KeyCommand command, EditorSession& session, ViewState& vi
     case KeyCommand::Glyphs: view.glyphs = !view.glyphs; break;
     case KeyCommand::Brush: view.paint_tool = !view.paint_tool; break;
     case KeyCommand::Step:
-      if (session.has_mesh() && !session.running()) session.step();
+      if (!session.running()) session.step();  // throws without a mesh (the window shows why)
       break;
     case KeyCommand::RunOrPause:
       if (session.running()) session.pause();
-      else if (session.has_mesh()) session.run();
+      else session.run();
       break;
     case KeyCommand::Undo: session.undo(); break;
     case KeyCommand::Redo: session.redo(); break;

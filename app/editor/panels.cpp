@@ -842,8 +842,8 @@ void status_bar(EditorSession& s, PanelState& p, int width, int height) {
                                  ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoBringToFrontOnFocus;
   if (ImGui::Begin("##status", nullptr, flags)) {
     const RunState st = s.has_mesh() ? s.run_state() : RunState::Idle;
-    ImGui::TextColored(run_state_color(st), "%s%s", st == RunState::Running ? spinner() : "",
-                       st == RunState::Running ? (std::string(" ") + run_state_name(st)).c_str() : run_state_name(st));
+    const std::string state = st == RunState::Running ? std::string(spinner()) + " running" : run_state_name(st);
+    ImGui::TextColored(run_state_color(st), "%s", state.c_str());
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", run_state_tooltip(st, s.adaptation_error()).c_str());
     if (s.has_mesh()) {
       const auto tl = s.timeline();
