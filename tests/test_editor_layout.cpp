@@ -5,7 +5,8 @@
 // in front of it; the outlines' projection; a click pinning the element
 // under it; the status bar at the bottom, the panels inside the window
 // after a resize, errors wrapped; the touched vertices' markers capped and
-// spread; and, in the window under Xvfb at 1 fps, a quick key tap not lost.
+// spread; and, in the window under Xvfb, a quick key tap at 1 fps not lost
+// and a click (not a drag) pinning the element under it.
 #ifdef ANISURF_WITH_GL
 #include <doctest/doctest.h>
 
@@ -25,6 +26,7 @@
 #include "editor/session.h"
 #include "io/mesh_io.h"
 #include "render/headless.h"
+#include "render/image.h"
 #include "render/outline.h"
 #include "render/pick.h"
 #include "render/point_sampling.h"
@@ -390,6 +392,45 @@ TEST_CASE("editor window: a quick key tap at 1 frame per second is not lost (Ctr
       << (dir / "stdout.txt").string() << "' 2>'" << (dir / "stderr.txt").string() << "'";
   std::system(cmd.str().c_str());
   CHECK(test::file_bytes(dir / "stdout.txt").find("exited") != std::string::npos);
+}
+
+TEST_CASE("editor window: a click pins the element under it, a drag does not (under Xvfb)") {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0 || std::system("command -v xdotool >/dev/null 2>&1") != 0 ||
+      std::system("command -v import >/dev/null 2>&1") != 0) {
+    MESSAGE("skipped: xvfb-run, xdotool or import (ImageMagick) not installed");
+    return;
+  }
+  const auto dir = test::temp_dir("editor_click_pin");
+  const std::string cube = (dir / "cube.mesh").string();
+  write_mesh_data(cube, test::cube());
+  // The pinned triangle's outline is cyan (0.1, 0.85, 1): its pixels in a grab of the screen.
+  auto cyan_pixels = [](const fs::path& png) {
+    const render::Image img = render::read_png(png.string());
+    int n = 0;
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        const auto* p = img.pixel(x, y);
+        n += p[0] < 70 && p[1] > 180 && p[1] < 245 && p[2] > 225;
+      }
+    return n;
+  };
+  // A drag from the mesh's middle (orbits, pins nothing), then a click there.
+  std::ostringstream cmd;
+  cmd << "XDG_STATE_HOME='" << (dir / "state").string() << "' xvfb-run -a -s '-screen 0 1280x800x24' sh -c '\""
+      << ANISURF_BINARY << "\" \"" << cube << "\" & pid=$!; "
+      << "timeout 30 xdotool search --sync --onlyvisible --name \"anisurf editor\" >/dev/null; sleep 3; "
+      << "xdotool mousemove 720 400 mousedown 1 mousemove 760 420 mousemove 800 440 mouseup 1; sleep 2; "
+      << "import -window root \"" << (dir / "dragged.png").string() << "\"; "
+      << "xdotool mousemove 720 400 click 1; sleep 2; xdotool mousemove 1270 790; sleep 2; "
+      << "import -window root \"" << (dir / "clicked.png").string() << "\"; "
+      << "kill $pid; wait $pid' >'" << (dir / "stdout.txt").string() << "' 2>'" << (dir / "stderr.txt").string() << "'";
+  std::system(cmd.str().c_str());
+  REQUIRE(fs::exists(dir / "dragged.png"));
+  REQUIRE(fs::exists(dir / "clicked.png"));
+  const int dragged = cyan_pixels(dir / "dragged.png"), clicked = cyan_pixels(dir / "clicked.png");
+  MESSAGE("cyan outline pixels: " << dragged << " after a drag, " << clicked << " after a click");
+  CHECK(dragged < 20);
+  CHECK(clicked > 200);
 }
 
 #endif
