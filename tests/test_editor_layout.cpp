@@ -12,6 +12,7 @@
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
+#include <imgui_internal.h>
 
 #include <algorithm>
 #include <cmath>
@@ -265,6 +266,8 @@ TEST_CASE("editor layout: a status bar at the bottom, panels inside the window a
   // (several lines, the bar no wider than the window).
   const auto main_before = p.main_rect;
   const float bar_before = p.status_rect.h;
+  // The panel's content (Step and the headers) stays where it was: its height does not change.
+  const float content_before = ImGui::FindWindowByName("anisurf editor")->ContentSize.y;
   p.message = "error: " + std::string(60, 'x') + " " + std::string(400, 'y') + " " + std::string(30, 'z') +
               " and the end of the message";
   for (std::size_t i = 9; i < p.message.size(); i += 12) p.message[i] = ' ';
@@ -272,6 +275,7 @@ TEST_CASE("editor layout: a status bar at the bottom, panels inside the window a
   draw_frames(r, s, v, p, scene, ui, 1600, 900);
   CHECK(p.main_rect.y == main_before.y);
   CHECK(p.main_rect.x == main_before.x);
+  CHECK(ImGui::FindWindowByName("anisurf editor")->ContentSize.y == content_before);
   CHECK(p.status_rect.w == doctest::Approx(1600));
   CHECK(p.status_rect.h > bar_before + 1.5f * ImGui::GetTextLineHeight());  // 3 lines instead of 1
   CHECK(p.main_rect.y + p.main_rect.h <= p.status_rect.y + 0.5f);
