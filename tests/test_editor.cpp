@@ -888,4 +888,9 @@ TEST_CASE("editor: the size legend follows painted values beyond its range, and 
   update();
   CHECK(size_range()[0] <= 1.05f * static_cast<float>(b.size));
   CHECK(size_range()[1] >= 0.95f * static_cast<float>(4.0 * r0[1]));
+  // Every dab undone: the first ends again (the first picture back).
+  while (s.can_undo()) REQUIRE(s.undo());
+  update();
+  CHECK(size_range()[0] == r0[0]);
+  CHECK(size_range()[1] == r0[1]);
 }

@@ -231,15 +231,16 @@ double EditorView::bezier_build_seconds() const {
 }
 
 void EditorView::start_mesh(const ViewState& view, const EditorSession& session, const NextState& next) {
-  // Metric edits on the same input keep the colour ranges, widened to cover
-  // the new values (so painting changes the colours only where it changes
-  // the metric, and the legend spans what was painted); another mesh, a pass
-  // or a new file take the ranges of their data.
-  std::vector<std::pair<std::string, std::array<float, 2>>> kept;
+  // Metric edits on the same input keep the colour ranges of the settings'
+  // own metric (base_ranges_), widened to cover the new values (so painting
+  // changes the colours only where it changes the metric, the legend spans
+  // what was painted, and undoing every edit gives the first picture back);
+  // another mesh, a pass or a new file take the ranges of their data.
   const bool keep = kept_for_ == session.opened() && !next.snapshot->has_report && kept_initial_ &&
                     kept_settings_ == session.settings();
-  if (keep)
-    for (const auto& q : mesh_.structure.scalars) kept.push_back({q.name, {q.range_min, q.range_max}});
+  std::vector<std::pair<std::string, std::array<float, 2>>> kept;
+  if (keep) kept = base_ranges_;
+  mesh_job_keeps_ = keep;
   mesh_job_of_ = next.snapshot;
   mesh_job_opened_ = session.opened();
   mesh_job_settings_ = session.settings();
@@ -261,6 +262,10 @@ bool EditorView::collect_mesh() {
   mesh_.structure.version = ++counter_;
   build_seconds_ = b.seconds;
   touched_counts_ = b.touched;
+  if (!mesh_job_keeps_) {
+    base_ranges_.clear();
+    for (const auto& q : mesh_.structure.scalars) base_ranges_.push_back({q.name, {q.range_min, q.range_max}});
+  }
   shown_ = std::move(mesh_job_of_);
   mesh_job_of_.reset();
   shown_opened_ = mesh_job_opened_;

@@ -5,11 +5,15 @@
 // The G1 surface is built in a thread of its own (seconds on a large mesh):
 // the view shows what it showed before until it is ready.
 #pragma once
+#include <array>
 #include <chrono>
 #include <future>
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "editor/session.h"
 #include "editor/view_state.h"
@@ -146,6 +150,11 @@ class EditorView {
   int kept_for_ = -1;           // session.opened() the ranges belong to
   bool kept_initial_ = false;   // the last structure showed the initial state
   MetricSettings kept_settings_;  // and was made with these settings
+  // The colour ranges of the last structure built with its data's own
+  // ranges (the settings' metric before any painting), and whether the
+  // build in progress keeps them.
+  std::vector<std::pair<std::string, std::array<float, 2>>> base_ranges_;
+  bool mesh_job_keeps_ = false;
   std::uint64_t counter_ = 1000;
   std::chrono::steady_clock::time_point last_rebuild_;  // structure versions (the renderer re-uploads on a change)
 };
