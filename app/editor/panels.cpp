@@ -364,8 +364,11 @@ void placement_lines(const PlacementCounts& c, ViewState& v) {
 void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
   if (!ImGui::CollapsingHeader("Adaptation", ImGuiTreeNodeFlags_DefaultOpen)) return;
   const bool running = s.running();
-  auto tip = [](const char* text) {
-    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("%s", text);
+  // The buttons' tooltips, shown once out of the disabled scopes (a tooltip
+  // opened inside one would be drawn faded as the disabled buttons).
+  const char* hovered_tip = nullptr;
+  auto tip = [&](const char* text) {
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) hovered_tip = text;
   };
   ImGui::BeginDisabled(running || !s.has_mesh());
   if (ImGui::Button("Step")) act(p, "step: one pass", [&] { s.step(); });
@@ -387,6 +390,7 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
   ImGui::SameLine();
   if (ImGui::Button("Reset")) act(p, "reset: back to the initial mesh", [&] { s.reset(); });
   tip("Back to the initial mesh T_0: the whole timeline is dropped (the metric stays).");
+  if (hovered_tip) ImGui::SetTooltip("%s", hovered_tip);
   // Section 7.1's loop: the adapted mesh shown becomes T_0, its metric derived again.
   ImGui::BeginDisabled(running || !s.has_mesh() || s.timeline().size() < 2);
   if (ImGui::Button("Next cycle")) {
