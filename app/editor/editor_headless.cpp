@@ -41,13 +41,15 @@ int run_script_headless(const ScriptOptions& o) {
   bool quit = false;
   ScriptHost host;
   host.quit = [&] { quit = true; };
+  host.click = [&](float x, float y) { panels.click = glm::vec2(x, y); };
+  host.show_keys = [&](bool on) { panels.show_keys = on; };
   host.screenshot = [&](const std::string& png) {
     const auto t0 = std::chrono::steady_clock::now();
     session.wait();
     session.analysis();  // the Analysis panel shows the displayed state's
     if (view.color == "distance") session.distance();  // the colours of the state shown, measured
     if (!renderer) renderer = std::make_unique<render::HeadlessRenderer>(W, H);
-    const bool fit = view.fit_request || view.frame_selection || view.view_request.has_value();
+    const bool fit = view.fit_request || view.frame_selection || view.frame_element || view.view_request.has_value();
     ViewState before = view;
     ev.update(session, view, scene, aspect, ui.left_reserve(W), ui.right_reserve(W));
     if (fit) {
@@ -55,11 +57,13 @@ int run_script_headless(const ScriptOptions& o) {
       renderer->render(scene, ui_cb, W, H, 2);
       view.fit_request = before.fit_request || before.view_request.has_value();
       view.frame_selection = before.frame_selection;
+      view.frame_element = before.frame_element;
       ev.update(session, view, scene, aspect, ui.left_reserve(W), ui.right_reserve(W));
     }
     // What waits for the camera's fit (the G1 surface's control net is built
     // around the view's centre) is built now.
     if (!ev.settled(session, view)) ev.update(session, view, scene, aspect, ui.left_reserve(W), ui.right_reserve(W));
+    ev.size_markers(scene, W, H);
     render::Image img = renderer->render(scene, ui_cb, W, H, 3);
     render::write_png(png, img);
     std::fprintf(stderr, "screenshot %s (%dx%d, %.2f s)\n", png.c_str(), W, H,

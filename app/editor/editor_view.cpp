@@ -11,6 +11,8 @@
 #include <cstdio>
 
 #include "geometry/normals.h"
+#include "render/point_sampling.h"
+
 namespace anisurf::editor {
 
 namespace {
@@ -137,11 +139,30 @@ void add_distance_to(render::MeshStructure& ms, const SurfaceDistance& d) {
   ms.structure.scalars.push_back(std::move(q));
 }
 
+// The touched vertices' markers: at most EditorView::kMaxTouchedMarkers
+// drawn, spread over the touched region (render::spread_sample); `counts`
+// receives how many are drawn of how many.
+render::Markers touched_markers(const render::MeshStructure& ms, const std::vector<int>& touched, bool enabled,
+                                EditorView::MarkerCounts& counts) {
+  std::vector<glm::vec3> all;
+  std::vector<char> seen(ms.draw_vertex.size(), 0);
+  for (int v : touched)
+    if (v >= 0 && v < static_cast<int>(ms.draw_vertex.size()) && ms.draw_vertex[v] >= 0 && !seen[v]) {
+      seen[v] = 1;
+      all.push_back(ms.structure.geometry.positions[static_cast<std::size_t>(ms.draw_vertex[v])]);
+    }
+  render::Markers mk{EditorView::kTouchedName, {}, {1.0f, 0.55f, 0.0f}, 3.0f, enabled};
+  for (std::size_t i : render::spread_sample(all, EditorView::kMaxTouchedMarkers)) mk.positions.push_back(all[i]);
+  counts = {static_cast<int>(mk.positions.size()), static_cast<int>(all.size())};
+  return mk;
+}
+
 // The structure of a state (the body of a mesh build, in its thread): the
 // mesh with its metric's quantities, the colour ranges `kept` (by quantity
 // name), the placements, the touched vertices and the distance to T_G.
 render::MeshStructure build_mesh(const Snapshot& snap, const SurfaceDistance* distance,
-                                 const std::vector<std::pair<std::string, std::array<float, 2>>>& kept, bool show_touched) {
+                                 const std::vector<std::pair<std::string, std::array<float, 2>>>& kept, bool show_touched,
+                                 EditorView::MarkerCounts& touched) {
   SurfaceMesh m = snap.mesh;
   set_metric_field(m, snap.metric, "metric");
   render::MeshStructureOptions o;
@@ -157,17 +178,9 @@ render::MeshStructure build_mesh(const Snapshot& snap, const SurfaceDistance* di
       }
   ms.structure.categories.push_back(placement_categories(ms, snap));
   // The vertices the displayed pass created, kept or moved.
-  if (snap.has_report && !snap.report.touched.empty()) {
-    render::Markers mk{"touched by the pass", {}, {1.0f, 0.55f, 0.0f}, 3.0f, show_touched};
-    if (snap.report.touched.size() > 3000) mk.radius_px = 1.8f;  // dense: dots
-    std::vector<char> seen(ms.draw_vertex.size(), 0);
-    for (int v : snap.report.touched)
-      if (v >= 0 && v < static_cast<int>(ms.draw_vertex.size()) && ms.draw_vertex[v] >= 0 && !seen[v]) {
-        seen[v] = 1;
-        mk.positions.push_back(ms.structure.geometry.positions[static_cast<std::size_t>(ms.draw_vertex[v])]);
-      }
-    ms.structure.markers.push_back(std::move(mk));
-  }
+  touched = {};
+  if (snap.has_report && !snap.report.touched.empty())
+    ms.structure.markers.push_back(touched_markers(ms, snap.report.touched, show_touched, touched));
   if (distance) add_distance_to(ms, *distance);
   return ms;
 }
@@ -218,14 +231,14 @@ double EditorView::bezier_build_seconds() const {
 }
 
 void EditorView::start_mesh(const ViewState& view, const EditorSession& session, const NextState& next) {
-  // Metric edits on the same input keep the colour ranges of the data as
-  // last reset, widened to cover the new values (so painting changes the
-  // colours only where it changes the metric, the legend spans what was
-  // painted, and undoing every edit gives the first picture back); another
-  // mesh, a pass or a new file take the ranges of their data.
-  std::vector<std::pair<std::string, std::array<float, 2>>> kept;
+  // Metric edits on the same input keep the colour ranges of the settings'
+  // own metric (base_ranges_), widened to cover the new values (so painting
+  // changes the colours only where it changes the metric, the legend spans
+  // what was painted, and undoing every edit gives the first picture back);
+  // another mesh, a pass or a new file take the ranges of their data.
   const bool keep = kept_for_ == session.opened() && !next.snapshot->has_report && kept_initial_ &&
                     kept_settings_ == session.settings();
+  std::vector<std::pair<std::string, std::array<float, 2>>> kept;
   if (keep) kept = base_ranges_;
   mesh_job_keeps_ = keep;
   mesh_job_of_ = next.snapshot;
@@ -236,7 +249,7 @@ void EditorView::start_mesh(const ViewState& view, const EditorSession& session,
     // At the window's priority: the pass is on screen once it is built.
     const auto t0 = std::chrono::steady_clock::now();
     MeshBuilt b;
-    b.structure = build_mesh(*snap, distance.get(), kept, touched);
+    b.structure = build_mesh(*snap, distance.get(), kept, touched, b.touched);
     b.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return b;
   });
@@ -248,16 +261,17 @@ bool EditorView::collect_mesh() {
   mesh_ = std::move(b.structure);
   mesh_.structure.version = ++counter_;
   build_seconds_ = b.seconds;
+  touched_counts_ = b.touched;
+  if (!mesh_job_keeps_) {
+    base_ranges_.clear();
+    for (const auto& q : mesh_.structure.scalars) base_ranges_.push_back({q.name, {q.range_min, q.range_max}});
+  }
   shown_ = std::move(mesh_job_of_);
   mesh_job_of_.reset();
   shown_opened_ = mesh_job_opened_;
   kept_for_ = mesh_job_opened_;
   kept_initial_ = !shown_->has_report;
   kept_settings_ = mesh_job_settings_;
-  if (!mesh_job_keeps_) {
-    base_ranges_.clear();
-    for (const auto& q : mesh_.structure.scalars) base_ranges_.push_back({q.name, {q.range_min, q.range_max}});
-  }
   return true;
 }
 
@@ -406,7 +420,7 @@ void EditorView::update(EditorSession& session, ViewState& view, render::Scene& 
       render::SurfaceStructure b = *bezier_;
       b.glyphs = mesh_.structure.glyphs;
       for (const auto& mk : mesh_.structure.markers)
-        if (mk.name == "touched by the pass") b.markers.push_back(mk);
+        if (mk.name == kTouchedName) b.markers.push_back(mk);
       b.version = ++counter_;
       scene.surfaces.push_back(std::move(b));
     }
@@ -419,14 +433,14 @@ void EditorView::update(EditorSession& session, ViewState& view, render::Scene& 
       s.activate(view.color == "deviation" ? "" : quantity_of(view.color));
       for (auto& g : s.glyphs) g.enabled = view.glyphs;
       for (auto& c : s.curves) c.enabled = view.features;
-      for (auto& mk : s.markers) mk.enabled = mk.name == "touched by the pass" ? view.show_touched : view.features;
+      for (auto& mk : s.markers) mk.enabled = mk.name == kTouchedName ? view.show_touched : view.features;
     } else if (s.name == kBezierName) {
       s.activate(view.color == "deviation" ? render::quantity::kDeviation : "");
       // Sampled once per triangle, the sub-triangles are the patches: the
       // shader's wireframe draws their edges (far cheaper than as curves).
       for (auto& c : s.curves)
         c.enabled = c.name == "patch edges" ? view.wireframe && bezier_sampled_k_ > 1 : view.control_net;
-      for (auto& mk : s.markers) mk.enabled = mk.name == "touched by the pass" ? view.show_touched : view.control_net;
+      for (auto& mk : s.markers) mk.enabled = mk.name == kTouchedName ? view.show_touched : view.control_net;
       for (auto& g : s.glyphs) g.enabled = view.glyphs;
     }
   }
@@ -446,22 +460,96 @@ void EditorView::update(EditorSession& session, ViewState& view, render::Scene& 
   if (view.frame_selection) {
     view.frame_selection = false;
     const Selection& sel = session.selection();
-    if (sel.active && sel.worst_triangle >= 0 && !shown_->mesh.is_deleted(Triangle(sel.worst_triangle))) {
-      // Frame the worst element with some of its surroundings (8 times its size).
-      const SurfaceMesh& m = shown_->mesh;
-      Vec3 c;
-      double r = 0;
-      for (int k = 0; k < 3; ++k) c += m.position(m.vertex(Triangle(sel.worst_triangle), k)) / 3.0;
-      for (int k = 0; k < 3; ++k) r = std::max(r, norm(m.position(m.vertex(Triangle(sel.worst_triangle), k)) - c));
-      const BBox box = m.bbox();
-      r = std::max(8 * r, 0.04 * norm(box.hi - box.lo));
-      std::vector<glm::vec3> pts;
-      for (int a = -1; a <= 1; a += 2)
-        for (int b = -1; b <= 1; b += 2)
-          for (int e = -1; e <= 1; e += 2) pts.push_back(to_glm(c + Vec3(a * r, b * r, e * r)));
-      scene.camera.fit(pts, aspect, 0.06f, reserve_left, reserve_right);
-    }
+    if (sel.active && sel.of == shown_) frame_triangle(sel.worst_triangle, scene, aspect, reserve_left, reserve_right);
   }
+  if (view.frame_element) {
+    frame_triangle(*view.frame_element, scene, aspect, reserve_left, reserve_right);
+    view.frame_element.reset();
+  }
+}
+
+namespace {
+
+// The unit normal of triangle t (counter-clockwise seen from outside); for
+// a triangle too thin to have a reliable one, the area-weighted normal of
+// its fan (it and its edge neighbours).
+Vec3 facing_normal(const SurfaceMesh& m, Triangle t) {
+  auto area_normal = [&](Triangle u) {
+    const Vec3 a = m.position(m.vertex(u, 0)), b = m.position(m.vertex(u, 1)), c = m.position(m.vertex(u, 2));
+    return cross(b - a, c - a);
+  };
+  Vec3 n = area_normal(t);
+  double longest = 0;
+  for (int k = 0; k < 3; ++k)
+    longest = std::max(longest, norm2(m.position(m.vertex(t, (k + 1) % 3)) - m.position(m.vertex(t, k))));
+  if (norm(n) < 1e-3 * longest)
+    for (int k = 0; k < 3; ++k) {
+      const Corner o = m.opposite(SurfaceMesh::corner(t, k));
+      if (o.is_valid()) n += area_normal(SurfaceMesh::triangle(o));
+    }
+  const double len = norm(n);
+  return len > 0 ? n / len : Vec3(0, 0, 1);
+}
+
+}  // namespace
+
+void EditorView::frame_triangle(int slot, render::Scene& scene, float aspect, float reserve_left,
+                                float reserve_right) const {
+  if (!shown_) return;
+  const SurfaceMesh& m = shown_->mesh;
+  const Triangle t(slot);
+  if (slot < 0 || slot >= m.triangle_capacity() || m.is_deleted(t)) return;
+  Vec3 c;
+  for (int k = 0; k < 3; ++k) c += m.position(m.vertex(t, k)) / 3.0;
+  const BBox box = m.bbox();
+  const double diagonal = norm(box.hi - box.lo);
+  // Looking at the element's front along its normal; its corners pushed
+  // away from its centroid by 1 / kFrameFill, and their mirror images
+  // through it, are fitted: the centroid at the centre of the free part of
+  // the view, the element spanning about kFrameFill of it (not less than
+  // 10^-4 of the diagonal around it).
+  scene.camera.look_along(-to_glm(facing_normal(m, t)));
+  std::vector<glm::vec3> pts;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 out = (m.position(m.vertex(t, k)) - c) / kFrameFill;
+    pts.push_back(to_glm(c + out));
+    pts.push_back(to_glm(c - out));  // symmetric: the centroid at the centre
+  }
+  const glm::vec3 e = to_glm(Vec3(1, 1, 1) * (1e-4 * diagonal));
+  pts.push_back(to_glm(c) - e);
+  pts.push_back(to_glm(c) + e);
+  scene.camera.fit(pts, aspect, 0.0f, reserve_left, reserve_right);
+  // The near and far planes keep the whole mesh (fit() set them around the
+  // element alone): the surroundings stay visible when zooming out.
+  scene.camera.scene_radius = std::max(scene.camera.scene_radius, static_cast<float>(0.5 * diagonal));
+}
+
+std::vector<render::WorldTriangle> EditorView::triangle_corners(std::span<const int> slots) const {
+  std::vector<render::WorldTriangle> out;
+  if (!shown_) return out;
+  const SurfaceMesh& m = shown_->mesh;
+  out.reserve(slots.size());
+  for (int slot : slots) {
+    if (slot < 0 || slot >= m.triangle_capacity() || m.is_deleted(Triangle(slot))) continue;
+    render::WorldTriangle w;
+    for (int k = 0; k < 3; ++k) w[static_cast<std::size_t>(k)] = to_glm(m.position(m.vertex(Triangle(slot), k)));
+    out.push_back(w);
+  }
+  return out;
+}
+
+void EditorView::size_markers(render::Scene& scene, int width, int height) const {
+  for (auto& s : scene.surfaces)
+    for (auto& mk : s.markers) {
+      if (mk.name != kTouchedName || !mk.enabled || mk.positions.empty()) continue;
+      int inside = 0;
+      for (const glm::vec3& p : mk.positions)
+        if (const auto px = render::project_to_pixel(scene.camera, p, width, height))
+          inside += px->x >= 0 && px->y >= 0 && px->x < static_cast<float>(width) && px->y < static_cast<float>(height);
+      // Discs covering about 3% of the view together.
+      const float area = 0.03f * static_cast<float>(width) * static_cast<float>(height) / static_cast<float>(std::max(inside, 1));
+      mk.radius_px = std::clamp(std::sqrt(area / 3.14159265f), 1.5f, 4.5f);
+    }
 }
 
 std::optional<HoverInfo> EditorView::hover(const render::Scene& scene, float x, float y, int width, int height) const {

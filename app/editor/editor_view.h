@@ -10,6 +10,7 @@
 #include <future>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -18,6 +19,7 @@
 #include "editor/view_state.h"
 #include "render/bezier_structure.h"
 #include "render/mesh_structure.h"
+#include "render/outline.h"
 #include "render/pick.h"
 #include "render/scene.h"
 
@@ -39,6 +41,16 @@ class EditorView {
   // edge is lowered on a large mesh (k^2 sub-triangles per triangle) so that
   // it draws about as fast as the mesh.
   static constexpr int kBezierMaxTriangles = 160000;
+  // The markers of the vertices the shown pass touched: at most this many
+  // drawn, spread over the touched region.
+  static constexpr std::size_t kMaxTouchedMarkers = 3000;
+  static constexpr const char* kTouchedName = "touched by the pass";
+  struct MarkerCounts {
+    int shown = 0, total = 0;
+  };
+  // The frame worst view: the element fills about this fraction of the
+  // view's height.
+  static constexpr float kFrameFill = 0.4f;
   // The samples per edge drawn for `requested` on a mesh of `triangles`.
   static int bezier_samples(int requested, int triangles);
   ~EditorView();
@@ -48,6 +60,16 @@ class EditorView {
   // The displayed mesh element under pixel (x, y) of a width x height view.
   std::optional<HoverInfo> hover(const render::Scene& scene, float x, float y, int width, int height) const;
   const Snapshot* shown() const { return shown_.get(); }
+  const std::shared_ptr<const Snapshot>& shown_state() const { return shown_; }
+  // The corners of triangles of the shown state (mesh slots; deleted or
+  // unknown slots are left out).
+  std::vector<render::WorldTriangle> triangle_corners(std::span<const int> slots) const;
+  // The touched vertices' markers of the shown pass: drawn / all.
+  MarkerCounts touched_markers() const { return touched_counts_; }
+  // Sizes the touched vertices' markers for a width x height view: the
+  // fewer markers inside the view, the larger (1.5 to 4.5 px), so that
+  // they cover a small share of what they mark.
+  void size_markers(render::Scene& scene, int width, int height) const;
   // False while the view waits for a measure to show the displayed state (the
   // distance colours: the state is shown with its distance, once measured).
   // Screenshots wait for it.
@@ -85,7 +107,12 @@ class EditorView {
   struct MeshBuilt {
     render::MeshStructure structure;
     double seconds = 0;
+    MarkerCounts touched;
   };
+  // Turns the camera to look at triangle `slot` of the shown state along
+  // its normal, from its front, and zooms until it spans about kFrameFill
+  // of the free part of the view. No-op for a deleted or unknown slot.
+  void frame_triangle(int slot, render::Scene& scene, float aspect, float reserve_left, float reserve_right) const;
   std::future<MeshBuilt> mesh_job_;
   std::shared_ptr<const Snapshot> mesh_job_of_;
   int mesh_job_opened_ = -1;
@@ -117,16 +144,17 @@ class EditorView {
   bool synchronous_ = false;
   std::string color_;
   double build_seconds_ = 0;
+  MarkerCounts touched_counts_;
   int opened_seen_ = 0;         // session.opened() last seen (a new mesh resets the view)
   int shown_opened_ = -1;       // session.opened() when shown_ was taken
   int kept_for_ = -1;           // session.opened() the ranges belong to
   bool kept_initial_ = false;   // the last structure showed the initial state
   MetricSettings kept_settings_;  // and was made with these settings
-  // The colour ranges taken from the data when they were last reset (a new
-  // mesh, a pass, new settings); metric edits show them widened to the
-  // current values, so undoing the edits gives these ranges back.
+  // The colour ranges of the last structure built with its data's own
+  // ranges (the settings' metric before any painting), and whether the
+  // build in progress keeps them.
   std::vector<std::pair<std::string, std::array<float, 2>>> base_ranges_;
-  bool mesh_job_keeps_ = false;  // the job in flight widens base_ranges_
+  bool mesh_job_keeps_ = false;
   std::uint64_t counter_ = 1000;
   std::chrono::steady_clock::time_point last_rebuild_;  // structure versions (the renderer re-uploads on a change)
 };

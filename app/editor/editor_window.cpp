@@ -1,5 +1,7 @@
 // The editor window: GLFW + the renderer + the panels; mouse: orbit / pan /
-// zoom, or paint with the brush; drag and drop to open; the script player;
+// zoom, a click pins the element under it, or paint with the brush; keys
+// (keys.h) queued by the key callback and carried out by the frame, in
+// order; drag and drop to open; the script player;
 // the autosave (its own file per launch, an earlier one offered at start);
 // open, drop and quit ask first when there is unsaved work (panels.h).
 #include <GLFW/glfw3.h>
@@ -9,6 +11,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -23,6 +26,7 @@
 #include "editor/autosave.h"
 #include "editor/editor_app.h"
 #include "editor/editor_view.h"
+#include "editor/keys.h"
 #include "editor/panels.h"
 #include "editor/script.h"
 #include "render/gl.h"
@@ -47,6 +51,14 @@ struct App {
   bool rotating = false, panning = false, painting = false;
   bool have_last_dab = false;
   Vec3 last_dab;
+  // A left press that may be a click: it pins the element under it on
+  // release unless the mouse moved more than kClickSlop pixels meanwhile.
+  static constexpr double kClickSlop = 4.0;
+  bool click_candidate = false;
+  double press_x = 0, press_y = 0;
+  // Key commands in the order they were pressed (the key callback queues
+  // them; the frame carries them out: no tap is lost at a low frame rate).
+  std::vector<KeyCommand> key_commands;
   std::vector<std::string> dropped;
   // Keys that went down since the last frame, and releases held back to the
   // next frame (on_key_event).
@@ -99,11 +111,26 @@ void on_mouse_button(GLFWwindow* w, int button, int action, int mods) {
     }
     return;
   }
-  if (button == GLFW_MOUSE_BUTTON_LEFT && !(mods & GLFW_MOD_SHIFT)) a.rotating = press;
+  if (button == GLFW_MOUSE_BUTTON_LEFT && !(mods & GLFW_MOD_SHIFT)) {
+    if (press) {
+      a.click_candidate = true;
+      a.press_x = a.mx;
+      a.press_y = a.my;
+    } else if (a.click_candidate && a.rotating) {
+      int ww = 1, wh = 1, fw = 1, fh = 1;
+      glfwGetWindowSize(w, &ww, &wh);
+      glfwGetFramebufferSize(w, &fw, &fh);
+      a.panels.click = glm::vec2(static_cast<float>(a.mx * fw / ww), static_cast<float>(a.my * fh / wh));
+    }
+    a.rotating = press;
+  }
   if (button == GLFW_MOUSE_BUTTON_RIGHT || button == GLFW_MOUSE_BUTTON_MIDDLE ||
       (button == GLFW_MOUSE_BUTTON_LEFT && (mods & GLFW_MOD_SHIFT)))
     a.panning = press;
-  if (!press) a.rotating = a.panning = false;
+  if (!press) {
+    a.rotating = a.panning = false;
+    a.click_candidate = false;
+  }
 }
 
 void on_cursor(GLFWwindow* w, double x, double y) {
@@ -112,6 +139,7 @@ void on_cursor(GLFWwindow* w, double x, double y) {
   const double dx = x - a.mx, dy = y - a.my;
   a.mx = x;
   a.my = y;
+  if (a.click_candidate && std::hypot(x - a.press_x, y - a.press_y) > App::kClickSlop) a.click_candidate = false;
   int ww = 1, wh = 1;
   glfwGetWindowSize(w, &ww, &wh);
   if (a.painting) paint_at(a, w);
@@ -128,45 +156,29 @@ void on_scroll(GLFWwindow* w, double, double dy) {
 
 void on_close(GLFWwindow* w);
 
+// A key press outside text fields: its command is queued for the frame.
 void on_key(GLFWwindow* w, int key, int, int action, int mods) {
   App& a = app_of(w);
   a.last_event = Clock::now();
   if (action != GLFW_PRESS || ImGui::GetIO().WantCaptureKeyboard) return;
-  const bool ctrl = mods & GLFW_MOD_CONTROL;
-  auto view = [&](render::NamedView v) { a.view.view_request = v; };
-  try {
-    switch (key) {
-      case GLFW_KEY_1: view(render::NamedView::Iso); break;
-      case GLFW_KEY_2: view(render::NamedView::Front); break;
-      case GLFW_KEY_3: view(render::NamedView::Back); break;
-      case GLFW_KEY_4: view(render::NamedView::Left); break;
-      case GLFW_KEY_5: view(render::NamedView::Right); break;
-      case GLFW_KEY_6: view(render::NamedView::Top); break;
-      case GLFW_KEY_7: view(render::NamedView::Bottom); break;
-      case GLFW_KEY_F: a.view.fit_request = true; break;
-      case GLFW_KEY_G: a.view.glyphs = !a.view.glyphs; break;
-      case GLFW_KEY_W: a.view.wireframe = !a.view.wireframe; break;
-      case GLFW_KEY_B: a.view.paint_tool = !a.view.paint_tool; break;
-      case GLFW_KEY_Z:
-        if (ctrl) (mods & GLFW_MOD_SHIFT) ? a.session.redo() : a.session.undo();
-        break;
-      case GLFW_KEY_Y:
-        if (ctrl) a.session.redo();
-        break;
-      case GLFW_KEY_SPACE: a.session.step(); break;
-      case GLFW_KEY_R: a.session.running() ? a.session.pause() : a.session.run(); break;
-      case GLFW_KEY_ESCAPE: a.view.paint_tool = false; break;
-      case GLFW_KEY_Q:
-        if (ctrl) {  // as the window's close button: confirmation when there is unsaved work
-          glfwSetWindowShouldClose(w, GLFW_TRUE);
-          on_close(w);
-        }
-        break;
-      default: break;
+  if (const auto c = key_command(key, mods)) a.key_commands.push_back(*c);
+}
+
+// The queued key commands, in order; Quit as the window's close button
+// (confirmation when there is unsaved work).
+void apply_key_commands(GLFWwindow* w, App& a) {
+  const auto commands = std::move(a.key_commands);
+  a.key_commands.clear();
+  for (KeyCommand c : commands) {
+    try {
+      if (!apply_key_command(c, a.session, a.view, a.panels)) {
+        glfwSetWindowShouldClose(w, GLFW_TRUE);
+        on_close(w);
+      }
+    } catch (const std::exception& e) {
+      a.panels.message = e.what();
+      a.panels.message_is_error = true;
     }
-  } catch (const std::exception& e) {
-    a.panels.message = e.what();
-    a.panels.message_is_error = true;
   }
 }
 
@@ -421,6 +433,8 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
   host.set_settings = [&](const MetricSettings& m) { a.session.request_metric(m, true); };
   const ScriptLine* metric_line = nullptr;  // the line whose metric is being built
   a.panels.screenshot = [&](const std::string& p) { pending_shot = p; };
+  host.click = [&](float x, float y) { a.panels.click = glm::vec2(x, y); };
+  host.show_keys = [&](bool on) { a.panels.show_keys = on; };
   auto last_autosave = Clock::now();
 
   // Frame statistics while the adaptation runs (the responsiveness measure).
@@ -447,6 +461,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
       glfwWaitEventsTimeout(0.25);
     else
       glfwPollEvents();
+    apply_key_commands(window, a);
     open_dropped(a);
     a.session.poll();
     if (a.panels.quit_confirmed) glfwSetWindowShouldClose(window, GLFW_TRUE);
@@ -489,6 +504,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     if (frame == 3 && !a.view.frame_selection) a.view.fit_request = true;  // panel widths known now
     const auto t_events = Clock::now();
     a.ev.update(a.session, a.view, a.scene, aspect, a.ui.left_reserve(fbw), a.ui.right_reserve(fbw));
+    a.ev.size_markers(a.scene, fbw, fbh);
     const auto t_update = Clock::now();
     // Hover: the element under the mouse (not while dragging, nor while a
     // script plays: its screenshots show no tooltip).

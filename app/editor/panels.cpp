@@ -4,13 +4,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cfloat>
 #include <cstdio>
-
 #include <filesystem>
+#include <span>
 
 #include "core/error.h"
 #include "editor/autosave.h"
+#include "editor/keys.h"
 #include "editor/script.h"
+#include "render/outline.h"
 #include "render/pick.h"
 #include "metric/length.h"
 #include "metric/quality.h"
@@ -40,6 +43,19 @@ void act(PanelState& p, const std::string& ok, F&& f) {
     p.message = e.what();
     p.message_is_error = true;
   }
+}
+
+// An indeterminate progress: a turning bar.
+const char* spinner() {
+  static const char* phases[] = {"|", "/", "-", "\\"};
+  return phases[static_cast<int>(ImGui::GetTime() * 8.0) % 4];
+}
+
+// An error in red, wrapped to the window's width.
+void error_text(const std::string& text) {
+  ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.8f, 0.1f, 0.1f, 1));
+  ImGui::TextWrapped("%s", text.c_str());
+  ImGui::PopStyleColor();
 }
 
 // --- File -----------------------------------------------------------------------
@@ -102,7 +118,7 @@ void save_targets(const PanelState& p) {
 
 void autosave_section(EditorSession& s, ViewState& v, PanelState& p) {
   if (!p.autosave_error.empty()) {
-    ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1), "autosave: failed (the error is shown above)");
+    ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1), "autosave: failed (the error is shown in the status bar)");
   } else if (!p.autosave_path.empty()) {
     ImGui::TextDisabled("autosave: %s", std::filesystem::path(p.autosave_path).filename().string().c_str());
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", p.autosave_path.c_str());
@@ -246,27 +262,22 @@ void metric_panel(EditorSession& s, PanelState& p) {
     p.preview_due.reset();
     s.request_metric(e, true);  // the line below says it builds; an error shows under the fields
   }
+  // One line, building or not (the headers below do not move).
+  const std::string error = s.has_mesh() ? s.metric_error(e) : std::string();
   if (s.metric_building()) {
     // An indeterminate progress: the engine reports none while it builds.
-    static const char* spin[] = {"|", "/", "-", "\\"};
-    const int phase = static_cast<int>(ImGui::GetTime() * 8.0) % 4;
-    ImGui::TextColored(ImVec4(0.15f, 0.35f, 0.75f, 1), "%s building the metric (%s%s)... %.1f s", spin[phase],
+    ImGui::TextColored(ImVec4(0.15f, 0.35f, 0.75f, 1), "%s building the metric (%s%s)... %.1f s", spinner(),
                        source_name(s.metric_build_of().source), s.metric_build_applies() ? "" : ", preview",
                        s.metric_build_seconds());
     if (ImGui::IsItemHovered())
       ImGui::SetTooltip("The metric is built in the background; the view shows the current one until it is ready.\n"
                         "A newer edit supersedes it (its result is then not installed).");
-  }
-  const std::string error = s.has_mesh() ? s.metric_error(e) : std::string();
-  if (!error.empty()) {
-    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.8f, 0.1f, 0.1f, 1));
-    ImGui::TextWrapped("%s", error.c_str());
-    ImGui::PopStyleColor();
-  }
-  if (const auto predicted = s.has_mesh() ? s.preview(e) : std::optional<double>())
+  } else if (const auto predicted = s.has_mesh() ? s.preview(e) : std::optional<double>()) {
     ImGui::Text("predicted vertices: %.0f", *predicted);
-  else if (error.empty())
-    ImGui::TextDisabled("predicted vertices: (building)");
+  } else {
+    ImGui::TextDisabled("predicted vertices: %s", error.empty() ? "(building)" : "(none)");
+  }
+  if (!error.empty()) error_text(error);
   if (s.has_mesh()) ImGui::TextDisabled("(input: %d vertices)", s.input().n_vertices());
 }
 
@@ -353,19 +364,33 @@ void placement_lines(const PlacementCounts& c, ViewState& v) {
 void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
   if (!ImGui::CollapsingHeader("Adaptation", ImGuiTreeNodeFlags_DefaultOpen)) return;
   const bool running = s.running();
+  // The buttons' tooltips, shown once out of the disabled scopes (a tooltip
+  // opened inside one would be drawn faded as the disabled buttons).
+  const char* hovered_tip = nullptr;
+  auto tip = [&](const char* text) {
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) hovered_tip = text;
+  };
   ImGui::BeginDisabled(running || !s.has_mesh());
-  if (ImGui::Button("Step")) act(p, "step", [&] { s.step(); });
+  if (ImGui::Button("Step")) act(p, "step: one pass", [&] { s.step(); });
+  tip("One pass of the adaptation (Space), from the pass shown.");
   ImGui::SameLine();
-  if (ImGui::Button("Run")) act(p, "running", [&] { s.run(); });
+  if (ImGui::Button("Run")) act(p, "run: passes until converged", [&] { s.run(); });
+  tip("Passes until the adaptation converges (R), from the pass shown.");
   ImGui::EndDisabled();
   ImGui::SameLine();
   ImGui::BeginDisabled(!running);
-  if (ImGui::Button("Pause")) s.pause();
+  if (ImGui::Button("Pause")) act(p, "pause: the run stops after the pass in progress, its passes kept", [&] { s.pause(); });
+  tip("Stops after the pass in progress and KEEPS every pass of the run:\n"
+      "the timeline stays, Run or Step goes on from there (R).");
   ImGui::SameLine();
-  if (ImGui::Button("Cancel")) s.cancel();
+  if (ImGui::Button("Cancel")) act(p, "cancel: the run is dropped once the pass in progress ends", [&] { s.cancel(); });
+  tip("Stops after the pass in progress and REVERTS the whole run:\n"
+      "its passes are dropped, the timeline goes back to where Run (or Step) was pressed.");
   ImGui::EndDisabled();
   ImGui::SameLine();
-  if (ImGui::Button("Reset")) s.reset();
+  if (ImGui::Button("Reset")) act(p, "reset: back to the initial mesh", [&] { s.reset(); });
+  tip("Back to the initial mesh T_0: the whole timeline is dropped (the metric stays).");
+  if (hovered_tip) ImGui::SetTooltip("%s", hovered_tip);
   // Section 7.1's loop: the adapted mesh shown becomes T_0, its metric derived again.
   ImGui::BeginDisabled(running || !s.has_mesh() || s.timeline().size() < 2);
   if (ImGui::Button("Next cycle")) {
@@ -384,10 +409,6 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
     ImGui::SameLine();
     ImGui::Text("cycle %d", s.cycle() + 1);
   }
-  if (running) {
-    ImGui::SameLine();
-    ImGui::TextColored(ImVec4(0.1f, 0.5f, 0.1f, 1), "running...");
-  }
   {
     float band[2] = {static_cast<float>(s.adapt_settings().remesh.op.lmin),
                      static_cast<float>(s.adapt_settings().remesh.op.lmax)};
@@ -395,8 +416,7 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
     ImGui::InputFloat2("lmin, lmax", band, "%.3g");
     if (ImGui::IsItemDeactivatedAfterEdit()) act(p, "band set", [&] { s.set_band(band[0], band[1]); });
   }
-  if (const std::string err = s.adaptation_error(); !err.empty())
-    ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1), "error: %s", err.c_str());
+  if (const std::string err = s.adaptation_error(); !err.empty()) error_text("error: " + err);
   const auto tl = s.timeline();
   const int n = static_cast<int>(tl.size());
   int shown = s.scrubbed() >= 0 ? s.scrubbed() : n - 1;
@@ -449,6 +469,16 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
     ImGui::TreePop();
   }
   ImGui::Checkbox("mark the vertices the pass touched", &v.show_touched);
+  if (p.view && v.show_touched) {
+    const EditorView::MarkerCounts mc = p.view->touched_markers();
+    if (mc.shown < mc.total) {
+      ImGui::SameLine();
+      ImGui::TextDisabled("(%d of %d shown)", mc.shown, mc.total);
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("At most %zu markers are drawn, spread evenly over the touched region.",
+                          EditorView::kMaxTouchedMarkers);
+    }
+  }
   const auto& snap = tl[static_cast<std::size_t>(std::clamp(shown, 0, n - 1))];
   if (!snap->has_report) {
     ImGui::TextDisabled("initial mesh: %d vertices, %d triangles", snap->mesh.n_vertices(), snap->mesh.n_triangles());
@@ -526,7 +556,7 @@ void distance_section(EditorSession& s, ViewState& v, PanelState& p) {
       v.bezier = 0;
     }
   }
-  if (!s.distance_error().empty()) ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1), "%s", s.distance_error().c_str());
+  if (!s.distance_error().empty()) error_text(s.distance_error());
   if (const auto last = s.last_distance())
     ImGui::TextDisabled("(an earlier state: max %.3g, %.3g%%)", last->max(), last->percent(last->max()));
 }
@@ -575,9 +605,7 @@ void bezier_panel(ViewState& v, PanelState& p) {
     bool dev = v.color == "deviation";
     if (ImGui::Checkbox("colour by deviation mesh - surface", &dev)) v.color = dev ? "deviation" : "size";
     if (p.view && p.view->bezier_building()) {
-      static const char* spin[] = {"|", "/", "-", "\\"};
-      const int phase = static_cast<int>(ImGui::GetTime() * 8.0) % 4;
-      ImGui::TextColored(ImVec4(0.15f, 0.35f, 0.75f, 1), "%s building the G1 surface... %.1f s", spin[phase],
+      ImGui::TextColored(ImVec4(0.15f, 0.35f, 0.75f, 1), "%s building the G1 surface... %.1f s", spinner(),
                          p.view->bezier_build_seconds());
       if (ImGui::IsItemHovered())
         ImGui::SetTooltip("Built in the background; the view shows what it showed before until it is ready.");
@@ -643,20 +671,25 @@ void display_panel(ViewState& v, render::Scene& scene) {
       }
 }
 
-void hover_tooltip(EditorSession& s, EditorView* view, PanelState& p) {
-  if (!p.hover || ImGui::GetIO().WantCaptureMouse) return;
-  const DisplayState d = s.display();
-  if (!d.snapshot) return;
-  const SurfaceMesh& m = d.snapshot->mesh;
-  const HoverInfo& h = *p.hover;
-  if (h.triangle < 0 || h.triangle >= m.triangle_capacity() || m.is_deleted(Triangle(h.triangle))) return;
-  ImGui::BeginTooltip();
+// Whether `h` names a live triangle of `snap`.
+bool names_triangle(const Snapshot& snap, const HoverInfo& h) {
+  const SurfaceMesh& m = snap.mesh;
+  return h.triangle >= 0 && h.triangle < m.triangle_capacity() && !m.is_deleted(Triangle(h.triangle)) && h.vertex >= 0 &&
+         h.vertex < m.vertex_capacity();
+}
+
+// What is known of a triangle and its closest vertex in state `snap`: its
+// quality, edges (metric lengths, tags), the vertex's tags, position,
+// distance to the input (when measured for that state), placement, sizes
+// and directions of its metric. Pre: names_triangle(snap, h).
+void element_info(EditorSession& s, const Snapshot& snap, const HoverInfo& h) {
+  const SurfaceMesh& m = snap.mesh;
   const Triangle T(h.triangle);
   std::array<Vec3, 3> pos;
   std::array<SymTensor3, 3> M;
   for (int k = 0; k < 3; ++k) {
     pos[k] = m.position(m.vertex(T, k));
-    M[k] = d.snapshot->metric[m.vertex(T, k).idx];
+    M[k] = snap.metric[m.vertex(T, k).idx];
   }
   auto tags = [](std::uint8_t t) {
     std::string s;
@@ -677,13 +710,14 @@ void hover_tooltip(EditorSession& s, EditorView* view, PanelState& p) {
                 tags(m.edge_tags(SurfaceMesh::corner(T, k))).c_str());
   }
   const Vertex V(h.vertex);
-  const SizesDirections sd = sizes_and_directions(d.snapshot->metric[V.idx]);
+  const SizesDirections sd = sizes_and_directions(snap.metric[V.idx]);
   ImGui::Separator();
   ImGui::Text("vertex %d  tags: %s", V.idx + 1, tags(m.vertex_tags(V)).c_str());
   const Vec3& x = m.position(V);
   ImGui::Text("at (%.4g, %.4g, %.4g)", x.x, x.y, x.z);
   bool current = false;
-  if (const auto dist = s.last_distance(&current); dist && current && V.idx < static_cast<int>(dist->vertex.size()))
+  if (const auto dist = s.last_distance(&current);
+      dist && current && s.display().snapshot.get() == &snap && V.idx < static_cast<int>(dist->vertex.size()))
     ImGui::Text("distance to the input %.4g (%.3g%% of the diagonal)", dist->vertex[static_cast<std::size_t>(V.idx)],
                 dist->percent(dist->vertex[static_cast<std::size_t>(V.idx)]));
   if (const VertexPlacement pl = vertex_placement(m, V); pl != VertexPlacement::None)
@@ -691,8 +725,209 @@ void hover_tooltip(EditorSession& s, EditorView* view, PanelState& p) {
   for (int i = 0; i < 3; ++i)
     ImGui::Text("size %.4g along (%.3f, %.3f, %.3f)", sd.sizes[i], sd.directions[i].x, sd.directions[i].y,
                 sd.directions[i].z);
+}
+
+void hover_tooltip(EditorSession& s, const PanelState& p) {
+  if (!p.hover || ImGui::GetIO().WantCaptureMouse || !p.view || !p.view->shown()) return;
+  const Snapshot& snap = *p.view->shown();
+  if (!names_triangle(snap, *p.hover)) return;
+  ImGui::BeginTooltip();
+  element_info(s, snap, *p.hover);
+  ImGui::TextDisabled("click to pin");
   ImGui::EndTooltip();
-  (void)view;
+}
+
+// A click without drag: pins the element under it (unpins on empty space).
+void pin_clicked(const render::Scene& scene, PanelState& p, int width, int height) {
+  if (!p.click) return;
+  const glm::vec2 at = *p.click;
+  p.click.reset();
+  if (!p.view) return;
+  if (const auto h = p.view->hover(scene, at.x, at.y, width, height))
+    p.pinned = PanelState::Pinned{*h, p.view->shown_state()};
+  else
+    p.pinned.reset();
+}
+
+// The pinned element's window (closed by its X, Unpin or Esc).
+void pinned_window(EditorSession& s, ViewState& v, PanelState& p) {
+  if (!p.pinned || !p.pinned->of || !names_triangle(*p.pinned->of, p.pinned->element)) {
+    p.pinned.reset();
+    return;
+  }
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(ImVec2(p.main_rect.x + p.main_rect.w + 8.0f, vp->Pos.y + 8.0f), ImGuiCond_Appearing);
+  ImGui::SetNextWindowBgAlpha(0.94f);
+  bool open = true;
+  if (ImGui::Begin("Pinned element", &open,
+                   ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing)) {
+    element_info(s, *p.pinned->of, p.pinned->element);
+    if (s.display().snapshot != p.pinned->of)
+      ImGui::TextDisabled("(of the state shown when it was pinned, not the one shown now)");
+    if (p.view && p.pinned->of == p.view->shown_state()) {
+      if (ImGui::SmallButton("Frame it")) v.frame_element = p.pinned->element.triangle;
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("Look at it along its normal and zoom on it (F fits the mesh again)");
+      ImGui::SameLine();
+    }
+    if (ImGui::SmallButton("Unpin")) open = false;
+    ImGui::SameLine();
+    ImGui::TextDisabled("(Esc; a click elsewhere pins another)");
+  }
+  ImGui::End();
+  if (!open) p.pinned.reset();
+}
+
+// The Keys window (F1, ?): the key table and the mouse.
+void keys_window(PanelState& p) {
+  if (!p.show_keys) return;
+  ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+  if (ImGui::Begin("Keys", &p.show_keys, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings)) {
+    if (ImGui::BeginTable("##keys", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingFixedFit)) {
+      auto row = [](const char* keys, const char* what) {
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(keys);
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(what);
+      };
+      for (const KeyBinding& b : key_bindings()) row(b.keys, b.action);
+      for (const MouseBinding& m : mouse_bindings()) row(m.gesture, m.action);
+      ImGui::EndTable();
+    }
+    ImGui::TextDisabled("Keys act when no text field has the focus.");
+  }
+  ImGui::End();
+}
+
+// The state's colour in the status bar.
+ImVec4 run_state_color(RunState st) {
+  switch (st) {
+    case RunState::Running: return ImVec4(0.10f, 0.50f, 0.10f, 1);
+    case RunState::Pausing:
+    case RunState::Cancelling: return ImVec4(0.75f, 0.45f, 0.00f, 1);
+    case RunState::Paused: return ImVec4(0.15f, 0.35f, 0.75f, 1);
+    case RunState::Converged: return ImVec4(0.05f, 0.45f, 0.45f, 1);
+    case RunState::Cancelled: return ImVec4(0.55f, 0.30f, 0.10f, 1);
+    case RunState::Failed: return ImVec4(0.80f, 0.10f, 0.10f, 1);
+    case RunState::Idle: break;
+  }
+  return ImVec4(0.40f, 0.40f, 0.40f, 1);
+}
+
+// What runs in the background, for the status bar ("" when nothing does).
+std::string background_work(EditorSession& s, const PanelState& p) {
+  std::string w;
+  auto add = [&](const std::string& x) { w += (w.empty() ? "" : ", ") + x; };
+  char buf[64];
+  if (s.metric_building()) {
+    std::snprintf(buf, sizeof buf, "building the metric %.1f s", s.metric_build_seconds());
+    add(buf);
+  }
+  if (p.view && p.view->bezier_building()) {
+    std::snprintf(buf, sizeof buf, "building the G1 surface %.1f s", p.view->bezier_build_seconds());
+    add(buf);
+  }
+  if (s.measuring()) add("measuring the distance");
+  return w;
+}
+
+// The bar at the bottom of the window: the adaptation's state (its tooltip
+// says what it means), background work, timings, the Keys button; under
+// them the last message and the autosave's error, wrapped (a line kept for
+// them when there are none). It grows upwards with a message of several
+// lines; the panels end above it.
+void status_bar(EditorSession& s, PanelState& p, int width, int height) {
+  const float w = static_cast<float>(width);
+  ImGui::SetNextWindowPos(ImVec2(0, static_cast<float>(height)), ImGuiCond_Always, ImVec2(0, 1));
+  ImGui::SetNextWindowSizeConstraints(ImVec2(w, 0), ImVec2(w, 0.5f * static_cast<float>(height)));
+  ImGui::SetNextWindowBgAlpha(0.95f);
+  const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                                 ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove |
+                                 ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoBringToFrontOnFocus;
+  if (ImGui::Begin("##status", nullptr, flags)) {
+    const RunState st = s.has_mesh() ? s.run_state() : RunState::Idle;
+    const std::string state = st == RunState::Running ? std::string(spinner()) + " running" : run_state_name(st);
+    ImGui::TextColored(run_state_color(st), "%s", state.c_str());
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", run_state_tooltip(st, s.adaptation_error()).c_str());
+    if (s.has_mesh()) {
+      const auto tl = s.timeline();
+      ImGui::SameLine(0, 16);
+      const int shown = s.scrubbed() >= 0 ? s.scrubbed() : static_cast<int>(tl.size()) - 1;
+      const auto& snap = tl[static_cast<std::size_t>(std::clamp(shown, 0, static_cast<int>(tl.size()) - 1))];
+      if (snap->has_report)
+        ImGui::TextDisabled("pass %d of %zu: %.2f s", shown, tl.size() - 1, snap->report.seconds);
+      else
+        ImGui::TextDisabled("initial mesh");
+      if (s.last_metric_seconds() > 0) {
+        ImGui::SameLine(0, 16);
+        ImGui::TextDisabled("metric built in %.2f s", s.last_metric_seconds());
+      }
+    }
+    if (const std::string work = background_work(s, p); !work.empty()) {
+      ImGui::SameLine(0, 16);
+      ImGui::TextColored(ImVec4(0.15f, 0.35f, 0.75f, 1), "%s %s", spinner(), work.c_str());
+    }
+    const float right = w - ImGui::GetStyle().WindowPadding.x;
+    const float keys_w = ImGui::CalcTextSize("Keys (F1)").x + 2 * ImGui::GetStyle().FramePadding.x;
+    if (p.fps > 0) {
+      char fps[32];
+      std::snprintf(fps, sizeof fps, "%.0f fps", p.fps);
+      ImGui::SameLine(std::max(ImGui::GetCursorPosX(), right - keys_w - ImGui::CalcTextSize(fps).x - 16));
+      ImGui::TextDisabled("%s", fps);
+    }
+    ImGui::SameLine(std::max(ImGui::GetCursorPosX(), right - keys_w));
+    if (ImGui::SmallButton("Keys (F1)")) p.show_keys = !p.show_keys;
+    ImGui::PushTextWrapPos(right);
+    if (!p.autosave_error.empty()) {
+      ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.8f, 0.1f, 0.1f, 1));
+      ImGui::TextWrapped("autosave: %s", p.autosave_error.c_str());
+      ImGui::PopStyleColor();
+    }
+    if (!p.message.empty()) {
+      ImGui::PushStyleColor(ImGuiCol_Text, p.message_is_error ? ImVec4(0.8f, 0.1f, 0.1f, 1) : ImVec4(0.2f, 0.4f, 0.2f, 1));
+      ImGui::TextWrapped("%s", p.message.c_str());
+      ImGui::PopStyleColor();
+    }
+    // The message's line is kept when there is none: the bar (and the
+    // legend above it) only moves for a message of several lines.
+    if (p.message.empty() && p.autosave_error.empty()) ImGui::TextUnformatted("");
+    ImGui::PopTextWrapPos();
+    p.status_rect = {ImGui::GetWindowPos().x, ImGui::GetWindowPos().y, ImGui::GetWindowWidth(), ImGui::GetWindowHeight()};
+  }
+  ImGui::End();
+}
+
+// The outlines over the scene: the selection (at most kMaxOutlined of its
+// triangles, spread over it), the pinned element and the hovered one.
+void draw_element_outlines(EditorSession& s, const PanelState& p, const render::Scene& scene, int width, int height) {
+  if (!p.view || !p.view->shown()) return;
+  const EditorView& ev = *p.view;
+  auto outline = [&](std::span<const int> slots, const glm::vec3& color, float width_px) {
+    const auto world = ev.triangle_corners(slots);
+    render::OutlineStyle style;
+    style.color = color;
+    style.width_px = width_px;
+    render::draw_outlines(render::project_triangles(scene.camera, world, width, height), style);
+  };
+  const Selection& sel = s.selection();
+  if (sel.active && sel.of == ev.shown_state()) {
+    constexpr std::size_t kMaxOutlined = 4000;
+    std::vector<int> slots;
+    for (std::size_t i : render::evenly_spaced(sel.triangles.size(), kMaxOutlined)) slots.push_back(sel.triangles[i]);
+    outline(slots, scene.display.highlight_color, 2.0f);
+    if (sel.worst_triangle >= 0) {
+      const int worst[] = {sel.worst_triangle};
+      outline(worst, {1.0f, 1.0f, 1.0f}, 3.0f);
+    }
+  }
+  if (p.pinned && p.pinned->of == ev.shown_state()) {
+    const int pinned[] = {p.pinned->element.triangle};
+    outline(pinned, {0.1f, 0.85f, 1.0f}, 3.0f);
+  }
+  if (p.hover && !ImGui::GetIO().WantCaptureMouse) {
+    const int hovered[] = {p.hover->triangle};
+    outline(hovered, {1.0f, 0.9f, 0.1f}, 2.5f);
+  }
 }
 
 const char* action_words(const PanelState::Pending& a) {
@@ -860,10 +1095,45 @@ void remember_recent(PanelState& p, const std::string& path) {
   if (p.recent.size() > 8) p.recent.resize(8);
 }
 
+std::string run_state_tooltip(RunState state, const std::string& error) {
+  switch (state) {
+    case RunState::Idle:
+      return "No pass since the mesh, the metric or the band last changed.\n"
+             "Step runs one pass (Space), Run runs passes until converged (R).";
+    case RunState::Running:
+      return "Passes run in the background; the view follows them.\n"
+             "Pause stops after the pass in progress and keeps every pass;\n"
+             "Cancel stops after it and drops the whole run.";
+    case RunState::Pausing:
+      return "Pause asked: the pass in progress finishes, then the run stops.\n"
+             "Its passes are kept.";
+    case RunState::Cancelling:
+      return "Cancel asked: the pass in progress finishes, then the whole run is dropped\n"
+             "(the timeline goes back to where the run started).";
+    case RunState::Paused:
+      return "Stopped before the adaptation converged (Pause, Step, or run N passes).\n"
+             "The passes are kept: Run or Step goes on from the pass shown.";
+    case RunState::Converged:
+      return "The adaptation converged: its last round changed (almost) nothing\n"
+             "(at most 1% of the vertices split or collapsed, or the rounds stopped gaining).\n"
+             "Run again does nothing: change the metric or the band, or Reset.";
+    case RunState::Cancelled:
+      return "The last run was cancelled: its passes were dropped and the timeline\n"
+             "is back where that run started. Run or Step starts again from there.";
+    case RunState::Failed: return "The last pass failed:\n" + error;
+  }
+  return "";
+}
+
 void draw_panels(EditorSession& session, ViewState& view, PanelState& panels, render::Scene& scene,
                  render::UiState& ui, int width, int height) {
+  pin_clicked(scene, panels, width, height);
+  // The status bar first: the panels and the legend end above it.
+  status_bar(session, panels, width, height);
+  const float bottom = panels.status_rect.h;
   // The legend (colour bar, curves, glyph key) from the renderer's UI.
   ui.show_panel = false;
+  ui.bottom_margin = bottom;
   render::draw_ui(scene, ui, width, height);
   // The save paths follow the opened file (beside it, with its name).
   if (session.has_mesh() && session.opened() != panels.opened_seen) {
@@ -871,10 +1141,16 @@ void draw_panels(EditorSession& session, ViewState& view, PanelState& panels, re
     panels.save_mesh = default_save_mesh(session.mesh_path());
     panels.save_sol = default_save_sol(session.mesh_path());
   }
-  ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(380, static_cast<float>(height) - 16), ImGuiCond_FirstUseEver);
+  // The main panel on the left, from the top to the status bar (its width
+  // the user's: the height and the place follow the window).
+  const float margin = 8.0f;
+  const float main_width = panels.main_rect.w > 0 ? panels.main_rect.w : 380.0f;
+  ImGui::SetNextWindowPos(ImVec2(margin, margin), ImGuiCond_Always);
+  ImGui::SetNextWindowSize(ImVec2(std::min(main_width, 0.6f * static_cast<float>(width)),
+                                  std::max(static_cast<float>(height) - bottom - 2 * margin, 100.0f)),
+                           ImGuiCond_Always);
   ImGui::SetNextWindowBgAlpha(0.90f);
-  if (ImGui::Begin("anisurf editor", nullptr, ImGuiWindowFlags_NoSavedSettings)) {
+  if (ImGui::Begin("anisurf editor", nullptr, ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove)) {
     if (session.has_mesh()) {
       ImGui::TextUnformatted(session.mesh_path().c_str());
       const DisplayState d = session.display();
@@ -886,38 +1162,36 @@ void draw_panels(EditorSession& session, ViewState& view, PanelState& panels, re
       ImGui::TextDisabled("features: %d edges, %d corners (%s)", f.feature_edges, f.corners,
                           session.features_from_file() ? "as listed in the file" : "detected");
     }
-    if (panels.fps > 0) ImGui::TextDisabled("%.0f fps", panels.fps);
-    if (!panels.autosave_error.empty()) {
-      ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.8f, 0.1f, 0.1f, 1));
-      ImGui::TextWrapped("%s", panels.autosave_error.c_str());
-      ImGui::PopStyleColor();
-    }
-    if (!panels.message.empty()) {
-      ImGui::PushStyleColor(ImGuiCol_Text, panels.message_is_error ? ImVec4(0.8f, 0.1f, 0.1f, 1) : ImVec4(0.2f, 0.4f, 0.2f, 1));
-      ImGui::TextWrapped("%s", panels.message.c_str());
-      ImGui::PopStyleColor();
-    }
     file_panel(session, view, panels);
     metric_panel(session, panels);
     brush_panel(session, view, panels);
     adaptation_panel(session, view, panels);
     bezier_panel(view, panels);
     display_panel(view, scene);
-    ui.panel_width = ImGui::GetWindowPos().x + ImGui::GetWindowWidth() + 8.0f;
+    panels.main_rect = {ImGui::GetWindowPos().x, ImGui::GetWindowPos().y, ImGui::GetWindowWidth(), ImGui::GetWindowHeight()};
+    ui.panel_width = ImGui::GetWindowPos().x + ImGui::GetWindowWidth() + margin;
   }
   ImGui::End();
-  // The analysis on the right, above the legend (once there is one: the
-  // window takes its place from its first size).
+  // The analysis at the right edge, from the top down to the legend.
+  panels.analysis_rect = {};
   if (session.has_mesh() && session.latest_analysis()) {
-    ImGui::SetNextWindowPos(ImVec2(static_cast<float>(width) - 8.0f, 8.0f), ImGuiCond_FirstUseEver, ImVec2(1.0f, 0.0f));
+    const float max_h = static_cast<float>(height) - bottom - ui.legend_height - 3 * margin;
+    ImGui::SetNextWindowPos(ImVec2(static_cast<float>(width) - margin, margin), ImGuiCond_Always, ImVec2(1.0f, 0.0f));
+    ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(FLT_MAX, std::max(max_h, 120.0f)));
     ImGui::SetNextWindowBgAlpha(0.90f);
-    if (ImGui::Begin("Analysis", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings)) {
+    if (ImGui::Begin("Analysis", nullptr,
+                     ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove)) {
+      ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 280.0f);
       analysis_panel(session, view, panels);
-      const float w = static_cast<float>(width) - ImGui::GetWindowPos().x + 8.0f;
+      ImGui::PopTextWrapPos();
+      const float w = static_cast<float>(width) - ImGui::GetWindowPos().x + margin;
       if (!ImGui::IsWindowCollapsed()) ui.legend_width = std::max(ui.legend_width, w);
+      panels.analysis_rect = {ImGui::GetWindowPos().x, ImGui::GetWindowPos().y, ImGui::GetWindowWidth(),
+                              ImGui::GetWindowHeight()};
     }
     ImGui::End();
   }
+  draw_element_outlines(session, panels, scene, width, height);
   // The brush's footprint under the mouse (a circle of its radius, in the
   // view plane) while the paint tool is on.
   if (view.paint_tool && panels.hover && session.has_mesh()) {
@@ -933,7 +1207,9 @@ void draw_panels(EditorSession& session, ViewState& view, PanelState& panels, re
       dl->AddCircle(ImVec2(pc->x, pc->y), r, IM_COL32(20, 20, 20, 255), 48, 1.5f);
     }
   }
-  if (!view.paint_tool) hover_tooltip(session, nullptr, panels);
+  if (!view.paint_tool) hover_tooltip(session, panels);
+  pinned_window(session, view, panels);
+  keys_window(panels);
   offer_window(session, view, panels);
   unsaved_dialog(session, view, panels);
   overwrite_dialog(session, view, panels);

@@ -1,11 +1,16 @@
 // The editor's Dear ImGui panels (the UI layer): File, Metric, Brush,
-// Adaptation, Analysis, G1 surface, Display, the hover tooltip, and the
-// dialogs that protect work (unsaved changes, overwrite, save as, the
-// autosave offered at start). They read the session and call its actions; they own only
+// Adaptation, Analysis, G1 surface, Display, the hover tooltip, the pinned
+// element, the Keys window, the status bar at the bottom (the adaptation's
+// state, the last message, timings), the outlines of the selected, hovered
+// and pinned triangles, and the dialogs that protect work (unsaved changes,
+// overwrite, save as, the autosave offered at start). They read the session and call its actions; they own only
 // UI state (text fields, recent files, messages).
 #pragma once
+#include <glm/glm.hpp>
+
 #include <chrono>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,7 +49,29 @@ struct PanelState {
   std::string message;              // last action's result or error
   bool message_is_error = false;
   std::optional<HoverInfo> hover;   // set by the window each frame
+  // A click without drag (pixels of the view, top-left origin): the next
+  // frame pins the element under it, or unpins on empty space. Set by the
+  // window and by a script's `click X Y`.
+  std::optional<glm::vec2> click;
+  // The pinned element and the state it belongs to (shown in its window
+  // until closed, Esc, or another click).
+  struct Pinned {
+    HoverInfo element;
+    std::shared_ptr<const Snapshot> of;
+  };
+  std::optional<Pinned> pinned;
+  bool show_keys = false;  // the Keys window (F1, ?)
   float fps = 0;
+  // Where the windows were drawn in the last frame (pixels, top-left
+  // origin): the layout follows the view's size each frame.
+  struct Rect {
+    float x = 0, y = 0, w = 0, h = 0;
+    // The rect lies within a width x height view.
+    bool inside(int width, int height) const {
+      return x >= 0 && y >= 0 && x + w <= static_cast<float>(width) && y + h <= static_cast<float>(height);
+    }
+  };
+  Rect main_rect, analysis_rect, status_rect;
   bool quit_confirmed = false;      // close the window (nothing unsaved, or the user said so)
   // Actions that would drop unsaved work wait for the user's answer in the
   // "Unsaved changes" dialog (Save / Discard / Cancel).
@@ -88,6 +115,9 @@ void request(EditorSession& session, ViewState& view, PanelState& panels, PanelS
 
 // Recent files: path added in front (kept unique, at most 8).
 void remember_recent(PanelState& p, const std::string& path);
+
+// The status bar's words for the adaptation's state, and what they mean (its tooltip).
+std::string run_state_tooltip(RunState state, const std::string& error);
 
 // Builds this frame's panels (between ImGui::NewFrame and ImGui::Render).
 void draw_panels(EditorSession& session, ViewState& view, PanelState& panels, render::Scene& scene,

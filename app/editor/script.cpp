@@ -327,6 +327,17 @@ void run_line(const ScriptLine& l, EditorSession& s, ViewState& v, const ScriptH
     // Checked here, at the line (a mistyped directory is refused, never made).
     check_writable(l.words[1]);
     host.screenshot(l.words[1]);
+  } else if (cmd == "click") {
+    need_mesh();
+    arity(l, 2, 2, "click X Y");
+    const double x = number(l, 1, "X"), y = number(l, 2, "Y");
+    if (x < 0 || y < 0) throw LineError{"click: X and Y are pixels from the window's top-left corner (>= 0)"};
+    if (!host.click) throw LineError{"click: no window"};
+    host.click(static_cast<float>(x), static_cast<float>(y));
+  } else if (cmd == "keys") {
+    const bool on = on_off(l, "keys on|off");
+    if (!host.show_keys) throw LineError{"keys: no window"};
+    host.show_keys(on);
   } else if (cmd == "save") {
     need_mesh();
     arity(l, 1, 2, "save MESH [SOL]");
@@ -398,6 +409,9 @@ const char* script_help() {
          "                                         beyond the input bound, or off the surface)\n"
          "  glyphs on|off | wire on|off | touched on|off (vertices the shown pass touched)\n"
          "  bezier K|off | control-net on|off\n"
+         "  click X Y                              a click (no drag) at pixel X, Y from the top-left:\n"
+         "                                         pins the element under it (elsewhere: unpins)\n"
+         "  keys on|off                            the window listing the keys (F1)\n"
          "  screenshot PNG | save MESH [SOL] | quit\n"
          "  frame-stats [reset]                    the window's frame times since the start or\n"
          "                                         the last reset: frames, mean, slowest (and\n"

@@ -11,6 +11,7 @@
 //   select-bin length|quality I | clear-selection
 //   view NAME | color MODE | glyphs on|off | wire on|off
 //   bezier K|off | control-net on|off
+//   click X Y | keys on|off
 //   screenshot PNG | save MESH [SOL] | quit
 //   frame-stats [reset]   (the window only: the slowest frame so far)
 #pragma once
@@ -49,6 +50,10 @@ struct ScriptHost {
   // background as its panel does (EditorSession::request_metric) and plays
   // the next line once the metric is installed.
   std::function<void(const MetricSettings&)> set_settings;
+  // `click X Y`: a click without drag at pixel (X, Y) of the window (pins
+  // the element under it); `keys on|off`: the Keys window.
+  std::function<void(float x, float y)> click;
+  std::function<void(bool)> show_keys;
 };
 
 // Runs one line; throws Error("FILE:LINE: message") on a bad line or a

@@ -683,6 +683,7 @@ void EditorSession::run(int max_passes) {
   run_start_ = from + 1;
   scrub_ = -1;
   stop_requested_.reset();
+  cancelled_ = false;
   adaptation_->start(from, max_passes);
   log(max_passes == 1 ? "step" : max_passes > 0 ? "run " + std::to_string(max_passes) : "run");
   changed();
@@ -766,6 +767,7 @@ void EditorSession::retire_adaptation() {
   adaptation_->request_stop();
   retired_.push_back(std::move(adaptation_));
   cancel_pending_ = false;
+  cancelled_ = false;
   scrub_ = -1;
   changed_at_ = std::chrono::steady_clock::now();  // the next one is prepared once the session is still
   poll();
@@ -781,6 +783,7 @@ void EditorSession::poll() {
     adaptation_->wait();
     adaptation_->truncate(run_start_);
     cancel_pending_ = false;
+    cancelled_ = true;
     scrub_ = -1;
     ++version_;
   }
@@ -805,6 +808,33 @@ void EditorSession::wait() {
 }
 
 bool EditorSession::running() const { return adaptation_ && adaptation_->running(); }
+
+const char* run_state_name(RunState s) {
+  switch (s) {
+    case RunState::Idle: return "idle";
+    case RunState::Running: return "running";
+    case RunState::Pausing: return "pausing";
+    case RunState::Cancelling: return "cancelling";
+    case RunState::Paused: return "paused";
+    case RunState::Converged: return "converged";
+    case RunState::Cancelled: return "cancelled";
+    case RunState::Failed: return "failed";
+  }
+  return "?";
+}
+
+RunState EditorSession::run_state() const {
+  if (!adaptation_) return RunState::Idle;
+  if (adaptation_->running()) {
+    if (cancel_pending_) return RunState::Cancelling;
+    return stop_requested_ ? RunState::Pausing : RunState::Running;
+  }
+  if (!adaptation_->error().empty()) return RunState::Failed;
+  if (cancelled_ || cancel_pending_) return RunState::Cancelled;
+  const auto tl = adaptation_->timeline();
+  if (tl.size() < 2) return RunState::Idle;
+  return tl.back()->schedule.phase == Schedule::Phase::Done ? RunState::Converged : RunState::Paused;
+}
 
 std::vector<std::shared_ptr<const Snapshot>> EditorSession::timeline() const {
   if (!adaptation_) return {t0_snapshot_};

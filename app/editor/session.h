@@ -76,6 +76,20 @@ struct MetricEdit {
   std::shared_ptr<const MetricField> base_before, base_after;
 };
 
+// Where the adaptation stands, for the status bar:
+//   Idle        no pass since the mesh, the metric or the band last changed;
+//   Running     passes run;
+//   Pausing     a pause was asked: the pass in progress ends, then it stops;
+//   Cancelling  a cancel was asked: the pass in progress ends, then the run is dropped;
+//   Paused      stopped by Pause or after the passes asked for (Step, run N);
+//               Run / Step go on from there;
+//   Converged   the schedule ended: the last round changed (almost) nothing;
+//   Cancelled   the last run was dropped: the timeline is back where it started;
+//   Failed      the last pass failed (adaptation_error() says why).
+enum class RunState { Idle, Running, Pausing, Cancelling, Paused, Converged, Cancelled, Failed };
+// "idle", "running", "pausing", ...
+const char* run_state_name(RunState s);
+
 // What the view shows: the mesh, its metric and the pass that produced it.
 struct DisplayState {
   std::shared_ptr<const Snapshot> snapshot;  // T_0 with the current metric, or a pass
@@ -212,6 +226,7 @@ class EditorSession {
   int cycle() const { return cycle_; }
   void wait();
   bool running() const;
+  RunState run_state() const;
   std::vector<std::shared_ptr<const Snapshot>> timeline() const;
   // Shows pass `index` of the timeline (-1: follow the latest).
   void scrub(int index);
@@ -339,6 +354,7 @@ class EditorSession {
   int scrub_ = -1;
   std::size_t run_start_ = 0;  // timeline size when the current run started
   bool cancel_pending_ = false;
+  bool cancelled_ = false;  // the last run was cancelled (and nothing ran since)
   std::optional<std::chrono::steady_clock::time_point> stop_requested_;
   Analysis analysis_;
   std::shared_ptr<const Snapshot> analysis_of_;

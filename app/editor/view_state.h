@@ -32,6 +32,7 @@ struct ViewState {
   std::optional<render::NamedView> view_request;  // applied (with a fit) on the next frame
   bool fit_request = true;
   bool frame_selection = false;  // frame the worst element of the selection
+  std::optional<int> frame_element;  // frame this triangle (a slot of the state shown) the same way
   // The brush is active in the window (left drag paints instead of orbiting).
   bool paint_tool = false;
 };

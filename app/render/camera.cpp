@@ -121,6 +121,15 @@ void Camera::set_view(NamedView v) {
   }
 }
 
+void Camera::look_along(const glm::vec3& direction) {
+  const float len = glm::length(direction);
+  if (!(len > 0.0f)) return;
+  // forward() = -(frame() * to_eye) with to_eye = (cos p sin y, sin p, cos p cos y).
+  const glm::vec3 to_eye = glm::transpose(frame()) * (-direction / len);
+  pitch = std::asin(std::clamp(to_eye.y, -1.0f, 1.0f));
+  if (std::abs(to_eye.x) + std::abs(to_eye.z) > 1e-7f) yaw = std::atan2(to_eye.x, to_eye.z);
+}
+
 void Camera::fit(std::span<const glm::vec3> points, float aspect, float margin, float reserve_left,
                  float reserve_right) {
   if (points.empty()) return;

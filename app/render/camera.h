@@ -54,6 +54,10 @@ class Camera {
   // Multiplies the distance (perspective) or the view height (ortho) by factor.
   void zoom(float factor);
   void set_view(NamedView v);
+  // Turns the camera so that it looks along `direction` (world, any length
+  // > 0): yaw and pitch of the turntable that give that forward(). The
+  // target and the distance stay.
+  void look_along(const glm::vec3& direction);
 
   // Places target and distance / ortho height so that every point is inside
   // the view (aspect = width / height) with a relative margin, keeping the

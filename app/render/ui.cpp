@@ -36,6 +36,7 @@ SurfaceStructure* first_enabled(Scene& scene) {
 
 void legend_window(Scene& scene, UiState& ui, int width, int height) {
   ui.legend_width = 0;
+  ui.legend_height = 0;
   SurfaceStructure* s = first_enabled(scene);
   if (!s) return;
   const ScalarQuantity* q = s->active_scalar();
@@ -51,7 +52,8 @@ void legend_window(Scene& scene, UiState& ui, int width, int height) {
   if (!q && !l && !vc && !any_curves && !glyphs) return;
 
   const float pad = 12.0f;
-  ImGui::SetNextWindowPos(ImVec2(static_cast<float>(width) - pad, static_cast<float>(height) - pad), ImGuiCond_Always,
+  ImGui::SetNextWindowPos(ImVec2(static_cast<float>(width) - pad, static_cast<float>(height) - pad - ui.bottom_margin),
+                          ImGuiCond_Always,
                           ImVec2(1.0f, 1.0f));
   ImGui::SetNextWindowBgAlpha(0.82f);
   ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
@@ -188,6 +190,7 @@ void legend_window(Scene& scene, UiState& ui, int width, int height) {
     ImGui::TextDisabled("%zu of %zu vertices", glyphs->drawn_count(), glyphs->centers.size());
   }
   ui.legend_width = ImGui::GetWindowWidth() + 2 * pad;
+  ui.legend_height = ImGui::GetWindowHeight() + pad;
   ImGui::End();
 }
 
@@ -330,6 +333,7 @@ void draw_ui(Scene& scene, UiState& ui, int width, int height) {
   ui.panel_width = 0;
   if (ui.show_panel) panel_window(scene, ui);
   ui.legend_width = 0;
+  ui.legend_height = 0;
   if (scene.display.legend) legend_window(scene, ui, width, height);
 }
 

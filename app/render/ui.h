@@ -16,6 +16,8 @@ struct UiState {
   bool fit_requested = false;  // set by the panel's "fit" button / view changes
   float legend_width = 0.0f;   // pixels with margins, measured by draw_ui (0: no legend)
   float panel_width = 0.0f;    // pixels from the left edge to the panel's right side (0: none)
+  float legend_height = 0.0f;  // pixels of the legend with its bottom margin (0: no legend)
+  float bottom_margin = 0.0f;  // pixels kept free at the bottom (a status bar): the legend sits above them
 
   // Fractions of a `width`-pixel view covered by the panel (left) and the
   // legend (right), for Scene::fit_camera.
