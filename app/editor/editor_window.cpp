@@ -498,9 +498,11 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
       glfwGetWindowSize(window, &ww, &wh);
       a.panels.hover = a.ev.hover(a.scene, static_cast<float>(a.mx * fbw / ww), static_cast<float>(a.my * fbh / wh), fbw, fbh);
     }
-    // One sample per pixel while the camera moves or the adaptation runs.
-    const bool moving = a.rotating || a.panning || a.session.running();
-    renderer.render(a.scene, fbw, fbh, moving ? 1 : a.scene.display.msaa_samples);
+    // One sample per pixel while the adaptation runs; the renderer's level of
+    // detail while the camera moves.
+    const bool camera_moving = a.rotating || a.panning;
+    renderer.render(a.scene, fbw, fbh,
+                    render::DrawOptions{a.session.running() ? 1 : a.scene.display.msaa_samples, camera_moving});
     const auto t_draw = Clock::now();
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();

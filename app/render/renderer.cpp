@@ -3,10 +3,15 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <future>
 #include <map>
+#include <optional>
+#include <type_traits>
 
 #include "render/gpu.h"
+#include "render/lod.h"
 
 namespace anisurf::render {
 
@@ -163,6 +168,127 @@ void upload_quantity(GpuSurface& gpu, const SurfaceStructure& s) {
   }
 }
 
+// A proxy of one surface for the frames drawn while the camera moves, built
+// by a background job from a copy of the surface's triangles.
+struct SurfaceLod {
+  std::future<ProxyMesh> job;
+  std::uint64_t job_version = 0;       // the surface's version the job works on
+  std::uint64_t version = ~0ull;       // the surface's version `structure` stands for
+  std::optional<SurfaceStructure> structure;
+  GpuSurface gpu;
+};
+
+// Starts the proxy's job for the surface's current version, unless one runs.
+void start_proxy_job(SurfaceLod& lod, const SurfaceStructure& s) {
+  if (lod.job.valid()) return;
+  TriangleSet copy{s.geometry.positions, s.geometry.triangles, {}};
+  lod.job_version = s.version;
+  lod.job = std::async(std::launch::async,
+                       [g = std::move(copy)] { return make_proxy(g, kProxyMaxTriangles); });
+}
+
+// The proxy structure for the surface's current version, once its job is
+// done (nullptr before); starts or restarts the job as needed.
+const SurfaceStructure* ready_proxy(SurfaceLod& lod, const SurfaceStructure& s) {
+  using namespace std::chrono_literals;
+  if (lod.job.valid() && lod.job.wait_for(0s) == std::future_status::ready) {
+    ProxyMesh proxy = lod.job.get();
+    if (lod.job_version == s.version) {
+      lod.structure = proxy_structure(s, proxy);
+      lod.version = s.version;
+      upload_geometry(lod.gpu, *lod.structure);
+    }
+  }
+  if (lod.version != s.version) {
+    start_proxy_job(lod, s);
+    return nullptr;
+  }
+  // Toggles that change without a new version follow the full structure.
+  lod.structure->active = s.active;
+  for (std::size_t i = 0; i < s.scalars.size() && i < lod.structure->scalars.size(); ++i)
+    lod.structure->scalars[i].log_scale = s.scalars[i].log_scale;
+  return &*lod.structure;
+}
+
+// The bytes of everything a frame's picture depends on besides the data a
+// structure's version covers: equal bytes, equal pictures.
+class FrameKey {
+ public:
+  template <class T>
+  void add(const T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const auto* p = reinterpret_cast<const unsigned char*>(&value);
+    bytes_.insert(bytes_.end(), p, p + sizeof(T));
+  }
+  void add(const std::string& text) {
+    add(text.size());
+    bytes_.insert(bytes_.end(), text.begin(), text.end());
+  }
+  const std::vector<unsigned char>& bytes() const { return bytes_; }
+
+ private:
+  std::vector<unsigned char> bytes_;
+};
+
+void add_surface(FrameKey& key, const SurfaceStructure& s, bool through_proxy) {
+  key.add(s.name);
+  key.add(s.enabled);
+  key.add(s.version);
+  key.add(s.geometry.triangles.size());
+  key.add(through_proxy);
+  key.add(s.active);
+  key.add(s.color);
+  if (const ScalarQuantity* q = s.active_scalar()) {
+    key.add(q->range_min);
+    key.add(q->range_max);
+    key.add(q->log_scale);
+    key.add(q->colormap);
+  }
+  for (const EllipseGlyphs& e : s.glyphs) {
+    key.add(e.enabled);
+    key.add(e.density);
+    key.add(e.scale);
+    key.add(e.color);
+  }
+  for (const Curves& c : s.curves) {
+    key.add(c.enabled);
+    key.add(c.width_px);
+    key.add(c.color);
+  }
+  for (const Markers& m : s.markers) {
+    key.add(m.enabled);
+    key.add(m.radius_px);
+    key.add(m.color);
+  }
+}
+
+std::vector<unsigned char> frame_key(const Scene& scene, int width, int height, int samples, bool moving,
+                                     const std::vector<bool>& through_proxy) {
+  FrameKey key;
+  key.add(width);
+  key.add(height);
+  key.add(samples);
+  key.add(moving);
+  const float aspect = static_cast<float>(width) / static_cast<float>(std::max(height, 1));
+  key.add(scene.camera.view());
+  key.add(scene.camera.projection(aspect));
+  key.add(scene.camera.orthographic);
+  key.add(scene.camera.scene_radius);
+  const DisplayOptions& d = scene.display;
+  key.add(d.flat);
+  key.add(d.wireframe);
+  key.add(d.wire_width_px);
+  key.add(d.wire_color);
+  key.add(d.highlight_color);
+  key.add(d.background);
+  key.add(scene.surfaces.size());
+  for (std::size_t i = 0; i < scene.surfaces.size(); ++i) add_surface(key, scene.surfaces[i], through_proxy[i]);
+  return key.bytes();
+}
+
+// Picture size while the camera moves: this fraction of the output's.
+constexpr float kMovingScale = 0.5f;
+
 }  // namespace
 
 struct Renderer::Impl {
@@ -172,7 +298,11 @@ struct Renderer::Impl {
   Program glyphs{"glyphs.vert", "glyphs.frag"};
   std::map<Colormap, Texture2D> colormaps;
   std::map<std::string, GpuSurface> cache;
+  std::map<std::string, SurfaceLod> lods;
   RenderTarget target;
+  int output_width = 0, output_height = 0;
+  std::vector<unsigned char> drawn_key;  // frame_key() of the picture in `target`
+  FrameInfo last;
 
   const Texture2D& colormap(Colormap c) {
     auto it = colormaps.find(c);
@@ -192,14 +322,51 @@ Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
 
 Renderer::~Renderer() = default;
 
-void Renderer::clear_cache() { impl_->cache.clear(); }
+void Renderer::clear_cache() {
+  impl_->cache.clear();
+  impl_->lods.clear();
+  impl_->drawn_key.clear();
+}
 
-void Renderer::draw(const Scene& scene, int width, int height, int samples) {
+const FrameInfo& Renderer::last_frame() const { return impl_->last; }
+
+bool Renderer::proxies_pending() const {
+  for (const auto& [name, lod] : impl_->lods)
+    if (lod.job.valid()) return true;
+  return false;
+}
+
+void Renderer::draw(const Scene& scene, int width, int height, const DrawOptions& options) {
   Impl& r = *impl_;
   const DisplayOptions& d = scene.display;
-  r.target.ensure(width, height, std::max(1, samples > 0 ? samples : d.msaa_samples));
+  const bool moving = options.camera_moving;
+  const float pixel_scale = moving ? kMovingScale : 1.0f;
+  const int samples = moving ? 1 : std::max(1, options.samples > 0 ? options.samples : d.msaa_samples);
+  const int target_width = std::max(1, static_cast<int>(std::lround(static_cast<float>(width) * pixel_scale)));
+  const int target_height = std::max(1, static_cast<int>(std::lround(static_cast<float>(height) * pixel_scale)));
+  r.output_width = width;
+  r.output_height = height;
+
+  // Proxies first: whether one is ready is part of what the picture shows.
+  std::vector<const SurfaceStructure*> proxies(scene.surfaces.size(), nullptr);
+  std::vector<bool> through_proxy(scene.surfaces.size(), false);
+  for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+    const SurfaceStructure& s = scene.surfaces[i];
+    if (!moving || !s.enabled || s.geometry.triangles.size() <= kProxyMinTriangles) continue;
+    proxies[i] = ready_proxy(r.lods[s.name], s);
+    through_proxy[i] = proxies[i] != nullptr;
+  }
+  std::vector<unsigned char> key = frame_key(scene, width, height, samples, moving, through_proxy);
+  if (key == r.drawn_key && r.target.width() == target_width && r.target.height() == target_height) {
+    r.last.redrawn = false;
+    return;
+  }
+  r.drawn_key = std::move(key);
+  r.last = FrameInfo{true, target_width, target_height, samples, 0, 0};
+
+  r.target.ensure(target_width, target_height, samples);
   r.target.bind();
-  glViewport(0, 0, width, height);
+  glViewport(0, 0, target_width, target_height);
   glClearColor(d.background.r, d.background.g, d.background.b, 1.0f);
   glClearDepth(1.0);
   glDepthMask(GL_TRUE);
@@ -213,15 +380,21 @@ void Renderer::draw(const Scene& scene, int width, int height, int samples) {
   const float aspect = static_cast<float>(width) / static_cast<float>(std::max(height, 1));
   const Camera& cam = scene.camera;
   const glm::mat4 view = cam.view(), proj = cam.projection(aspect);
-  const glm::vec2 viewport(width, height);
+  const glm::vec2 viewport(target_width, target_height);
   const int ortho = cam.orthographic ? 1 : 0;
   const float lift = cam.scene_radius * 2e-3f;
 
-  for (const SurfaceStructure& s : scene.surfaces) {
+  for (std::size_t si = 0; si < scene.surfaces.size(); ++si) {
+    const SurfaceStructure& s = scene.surfaces[si];
     if (!s.enabled || s.geometry.triangles.empty()) continue;
-    GpuSurface& gpu = r.cache[s.name];
-    if (gpu.version != s.version) upload_geometry(gpu, s);
-    upload_quantity(gpu, s);
+    GpuSurface& full = r.cache[s.name];
+    if (full.version != s.version) upload_geometry(full, s);
+    // The surface pass reads the proxy's buffers when one stands in.
+    const SurfaceStructure& shaded = proxies[si] ? *proxies[si] : s;
+    GpuSurface& gpu = proxies[si] ? r.lods[s.name].gpu : full;
+    upload_quantity(gpu, shaded);
+    r.last.triangles += shaded.geometry.triangles.size();
+    r.last.proxies += proxies[si] ? 1 : 0;
 
     // Surface.
     Program& p = r.surface;
@@ -231,7 +404,7 @@ void Renderer::draw(const Scene& scene, int width, int height, int samples) {
     p.set("u_base_color", s.color);
     p.set("u_flat", d.flat ? 1 : 0);
     p.set("u_wireframe", d.wireframe ? 1 : 0);
-    p.set("u_wire_width", d.wire_width_px);
+    p.set("u_wire_width", std::max(1.0f, d.wire_width_px * pixel_scale));
     p.set("u_wire_color", d.wire_color);
     p.set("u_highlight_color", d.highlight_color);
     p.set("u_orthographic", ortho);
@@ -267,9 +440,9 @@ void Renderer::draw(const Scene& scene, int width, int height, int samples) {
 
     // Glyphs (translucent fill: no depth writes).
     glDepthMask(GL_FALSE);
-    for (std::size_t i = 0; i < s.glyphs.size() && i < gpu.glyphs.size(); ++i) {
+    for (std::size_t i = 0; i < s.glyphs.size() && i < full.glyphs.size(); ++i) {
       const EllipseGlyphs& e = s.glyphs[i];
-      std::size_t n = std::min(e.drawn_count(), gpu.glyphs[i].count);
+      std::size_t n = std::min(e.drawn_count(), full.glyphs[i].count);
       if (!e.enabled || n == 0) continue;
       Program& g = r.glyphs;
       g.use();
@@ -280,41 +453,41 @@ void Renderer::draw(const Scene& scene, int width, int height, int samples) {
       g.set("u_orthographic", ortho);
       // Over a colour quantity: light glyphs with dark outlines.
       g.set("u_color", s.active.empty() ? e.color : glm::vec3(0.97f));
-      gpu.glyphs[i].vao.bind();
+      full.glyphs[i].vao.bind();
       glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(n));
     }
     glDepthMask(GL_TRUE);
 
     // Curves, then markers on top of them.
-    for (std::size_t i = 0; i < s.curves.size() && i < gpu.curves.size(); ++i) {
+    for (std::size_t i = 0; i < s.curves.size() && i < full.curves.size(); ++i) {
       const Curves& c = s.curves[i];
-      if (!c.enabled || gpu.curves[i].count == 0) continue;
+      if (!c.enabled || full.curves[i].count == 0) continue;
       Program& g = r.curves;
       g.use();
       g.set("u_view", view);
       g.set("u_projection", proj);
       g.set("u_viewport", viewport);
-      g.set("u_width", c.width_px);
+      g.set("u_width", c.width_px * pixel_scale);
       g.set("u_lift", lift);
       g.set("u_orthographic", ortho);
       g.set("u_color", c.color);
-      gpu.curves[i].vao.bind();
-      glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(gpu.curves[i].count));
+      full.curves[i].vao.bind();
+      glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(full.curves[i].count));
     }
-    for (std::size_t i = 0; i < s.markers.size() && i < gpu.markers.size(); ++i) {
+    for (std::size_t i = 0; i < s.markers.size() && i < full.markers.size(); ++i) {
       const Markers& m = s.markers[i];
-      if (!m.enabled || gpu.markers[i].count == 0) continue;
+      if (!m.enabled || full.markers[i].count == 0) continue;
       Program& g = r.markers;
       g.use();
       g.set("u_view", view);
       g.set("u_projection", proj);
       g.set("u_viewport", viewport);
-      g.set("u_radius", m.radius_px);
+      g.set("u_radius", m.radius_px * pixel_scale);
       g.set("u_lift", 2.0f * lift);
       g.set("u_orthographic", ortho);
       g.set("u_color", m.color);
-      gpu.markers[i].vao.bind();
-      glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(gpu.markers[i].count));
+      full.markers[i].vao.bind();
+      glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(full.markers[i].count));
     }
     glDisable(GL_BLEND);
   }
@@ -325,8 +498,9 @@ void Renderer::draw(const Scene& scene, int width, int height, int samples) {
 }
 
 void Renderer::present() {
-  impl_->target.resolve(0);
-  glViewport(0, 0, impl_->target.width(), impl_->target.height());
+  Impl& r = *impl_;
+  r.target.resolve(0, r.output_width, r.output_height);
+  glViewport(0, 0, r.output_width, r.output_height);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
   check_gl("Renderer::present");
