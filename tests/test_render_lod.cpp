@@ -196,17 +196,93 @@ TEST_CASE("renderer frames: a moving camera draws at half resolution through the
   // The proxy shows the same sphere: close to the full-detail picture.
   CHECK(mean_difference(moving_picture, still) < 6.0);
 
-  r.render(scene, w, h, DrawOptions{4, false});  // the camera stopped
-  CHECK(r.last_frame().redrawn);
+  r.render(scene, w, h, DrawOptions{4, false});  // the camera stopped where it was
+  CHECK(r.last_frame().complete);
   CHECK(r.last_frame().triangles == full);
   CHECK(r.last_frame().proxies == 0);
   CHECK(read_framebuffer(w, h).rgba == still.rgba);
+  // Stopped elsewhere: drawn again in full detail.
+  scene.camera.yaw += 0.5f;
+  r.render(scene, w, h, DrawOptions{1, true});
+  r.render(scene, w, h, DrawOptions{4, false});
+  CHECK(r.last_frame().redrawn);
+  CHECK(r.last_frame().complete);
+  CHECK(r.last_frame().width == w);
+  CHECK(r.last_frame().triangles == full);
+  CHECK(r.last_frame().proxies == 0);
+  const Image elsewhere = read_framebuffer(w, h);
+  {
+    OffscreenContext fresh_context(w, h);
+    Renderer fresh;
+    fresh.render(scene, w, h, DrawOptions{4, false});
+    CHECK(read_framebuffer(w, h).rgba == elsewhere.rgba);
+  }
+  context.resize(w, h);
 
   // A new version of the surface: the old proxy is not drawn for it.
   scene.surfaces[0].version += 1;
   r.render(scene, w, h, DrawOptions{1, true});
   CHECK(r.last_frame().proxies == 0);
   CHECK(r.last_frame().triangles == full);
+}
+
+TEST_CASE("renderer frames: a still picture over the triangle budget is drawn in slices, the last complete one shown meanwhile") {
+  const int w = 320, h = 240;
+  OffscreenContext context(w, h);
+  Scene scene = sphere_scene(uv_sphere(60, 80, 1.0f));  // 9,440 triangles
+  const std::size_t n = scene.surfaces[0].geometry.triangles.size();
+  const float yaw = scene.camera.yaw;
+  Renderer whole;
+  whole.render(scene, w, h);
+  const Image reference = read_framebuffer(w, h);
+  scene.camera.yaw = yaw + 0.4f;
+  whole.render(scene, w, h);
+  const Image turned = read_framebuffer(w, h);
+
+  Renderer sliced;
+  scene.camera.yaw = yaw;
+  sliced.render(scene, w, h);  // no budget: one frame
+  CHECK(read_framebuffer(w, h).rgba == reference.rgba);
+  scene.camera.yaw = yaw + 0.4f;
+  const DrawOptions budget{0, false, n / 3 + 1};
+  for (int frame = 0; frame < 2; ++frame) {
+    sliced.render(scene, w, h, budget);
+    CHECK_FALSE(sliced.last_frame().complete);
+    CHECK(sliced.last_frame().triangles <= budget.triangle_budget);
+    CHECK(read_framebuffer(w, h).rgba == reference.rgba);  // the last complete picture
+  }
+  sliced.render(scene, w, h, budget);
+  CHECK(sliced.last_frame().complete);
+  CHECK(read_framebuffer(w, h).rgba == turned.rgba);  // the slices make the one-frame picture
+
+  // A newer picture interrupts an unfinished one (its fast picture, without
+  // a proxy, would not fit the budget): the last complete picture stays
+  // until the newer one is complete.
+  scene.camera.yaw += 0.4f;
+  sliced.render(scene, w, h, budget);
+  scene.camera.yaw += 0.4f;
+  sliced.render(scene, w, h, budget);
+  CHECK_FALSE(sliced.last_frame().complete);
+  CHECK(sliced.last_frame().triangles <= budget.triangle_budget);
+  CHECK(read_framebuffer(w, h).rgba == turned.rgba);
+  for (int frame = 0; frame < 3 && !sliced.last_frame().complete; ++frame) sliced.render(scene, w, h, budget);
+  CHECK(sliced.last_frame().complete);
+  whole.render(scene, w, h);
+  const Image expected = read_framebuffer(w, h);
+  sliced.render(scene, w, h, budget);
+  CHECK(read_framebuffer(w, h).rgba == expected.rgba);
+
+  // New data with a budget: its GPU copy is prepared in the background, the
+  // last picture shown meanwhile, then the new one drawn in slices.
+  scene.surfaces[0].version += 1;
+  int frames = 0;
+  do {
+    sliced.render(scene, w, h, budget);
+    CHECK(read_framebuffer(w, h).rgba == expected.rgba);  // the same geometry: the same picture throughout
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  } while (!sliced.last_frame().complete && ++frames < 5000);
+  CHECK(sliced.last_frame().complete);
+  CHECK(frames >= 3);  // at least the three slices
 }
 
 #endif

@@ -440,7 +440,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     const auto frame_start = Clock::now();
     const bool busy = a.session.running() || a.session.measuring() || a.session.metric_building() ||
                       a.ev.bezier_building() || !a.ev.settled(a.session, a.view) || next_line < script.size() ||
-                      !pending_shot.empty();
+                      !pending_shot.empty() || !renderer.last_frame().complete;
     release_held_keys(window, a);
     // Measured frames never wait for events (the wait would count as work).
     if (!busy && !o.frame_stats && frame_start - a.last_event > std::chrono::seconds(1))
@@ -502,7 +502,8 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     // detail while the camera moves.
     const bool camera_moving = a.rotating || a.panning;
     renderer.render(a.scene, fbw, fbh,
-                    render::DrawOptions{a.session.running() ? 1 : a.scene.display.msaa_samples, camera_moving});
+                    render::DrawOptions{a.session.running() ? 1 : a.scene.display.msaa_samples, camera_moving,
+                                        render::kInteractiveTriangleBudget});
     const auto t_draw = Clock::now();
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
@@ -511,7 +512,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     // A screenshot waits for the distance colours of the state shown.
-    if (!pending_shot.empty() && a.ev.settled(a.session, a.view) && (!a.session.has_mesh() || a.session.analysis_current()) &&
+    if (!pending_shot.empty() && renderer.last_frame().complete && a.ev.settled(a.session, a.view) && (!a.session.has_mesh() || a.session.analysis_current()) &&
         --shots_waiting_frames <= 0) {
       render::Image img(fbw, fbh);
       gl::glPixelStorei(GL_PACK_ALIGNMENT, 1);

@@ -5,8 +5,9 @@
 // previous picture. While the camera moves, the picture is drawn at half the
 // resolution (one sample per pixel, scaled up by present()) and surfaces
 // larger than kProxyMinTriangles are drawn through a decimated proxy
-// (render/lod.h) built in the background. Needs a current context with the
-// GL functions loaded.
+// (render/lod.h) built in the background. A still picture can be drawn in
+// slices over several frames (DrawOptions::triangle_budget). Needs a current
+// context with the GL functions loaded.
 #pragma once
 #include <cstddef>
 #include <memory>
@@ -19,7 +20,17 @@ namespace anisurf::render {
 struct DrawOptions {
   int samples = 0;             // multisamples (0: scene.display.msaa_samples); 1 while the camera moves
   bool camera_moving = false;  // level of detail: half resolution, proxies of large surfaces
+  // > 0: a still picture draws at most this many triangles a frame; a larger
+  // scene is drawn over several frames, the last complete picture shown
+  // meanwhile. 0: the whole picture in one frame.
+  std::size_t triangle_budget = 0;
 };
+
+// A budget for the window's frames on llvmpipe (2 cores shared with the
+// adaptation, 1280x800, 4 samples: a slice of 15k falcon triangles takes
+// 40-75 ms). With a budget, the GPU copies of new data are also prepared in
+// the background.
+inline constexpr std::size_t kInteractiveTriangleBudget = 15000;
 
 // What the last draw() drew (the orbit benchmark prints it).
 struct FrameInfo {
@@ -28,6 +39,7 @@ struct FrameInfo {
   int samples = 0;
   std::size_t triangles = 0;   // surface triangles drawn
   int proxies = 0;             // surfaces drawn through their proxy
+  bool complete = true;        // false: a still picture is being drawn over several frames
 };
 
 // Surfaces with more triangles are drawn through a proxy of at most

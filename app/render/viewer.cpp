@@ -210,7 +210,7 @@ void run_viewer(Scene& scene, UiState& ui, const ViewerOptions& options) {
     auto frame_start = Clock::now();
     // Idle (nothing happened for a second): wait for events instead of
     // redrawing the same picture.
-    const bool idle = !bench && frame_start - input.last_event > std::chrono::seconds(1);
+    const bool idle = !bench && frame_start - input.last_event > std::chrono::seconds(1) && renderer.last_frame().complete;
     if (idle)
       glfwWaitEventsTimeout(0.5);
     else
@@ -241,7 +241,10 @@ void run_viewer(Scene& scene, UiState& ui, const ViewerOptions& options) {
     // of large surfaces; the still picture is redrawn in full detail.
     const bool moving = (bench && !options.bench_full_detail) || input.rotating || input.panning ||
                         Clock::now() - input.last_wheel < std::chrono::milliseconds(300);
-    renderer.render(scene, fbw, fbh, DrawOptions{scene.display.msaa_samples, moving});
+    // Still pictures larger than the budget are drawn over several frames
+    // (the benchmark's full-detail frames in one each).
+    const std::size_t budget = bench ? 0 : kInteractiveTriangleBudget;
+    renderer.render(scene, fbw, fbh, DrawOptions{scene.display.msaa_samples, moving, budget});
     if (bench && frame > 0) bench_stats.add(renderer.last_frame());
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
