@@ -572,9 +572,9 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
       run_seconds = std::chrono::duration<double>(now - run_start).count();
       const auto tl = a.session.timeline();
       std::fprintf(stderr,
-                   "adaptation: done after %.2f s (%zu passes in the timeline); the window drew %d frames (%.1f fps, slowest frame %.0f ms); "
+                   "adaptation: done after %.2f s (%zu passes, %zu in the timeline); the window drew %d frames (%.1f fps, slowest frame %.0f ms); "
                    "last pass %.3f s\n",
-                   run_seconds, tl.size() - 1, run_frames, run_frames / std::max(run_seconds, 1e-9), 1000 * run_worst,
+                   run_seconds, tl.size() - 1 + a.session.dropped_passes(), tl.size() - 1, run_frames, run_frames / std::max(run_seconds, 1e-9), 1000 * run_worst,
                    tl.back()->has_report ? tl.back()->report.seconds : 0.0);
     }
     was_running = running;
