@@ -23,6 +23,7 @@ uniform bool u_wireframe;
 uniform float u_wire_width;          // pixels
 uniform vec3 u_wire_color;
 uniform bool u_orthographic;
+uniform int u_first_triangle;        // of the draw call (gl_PrimitiveID counts from it)
 
 out vec4 o_color;
 
@@ -37,26 +38,27 @@ vec3 scalar_color(float value) {
 }
 
 void main() {
+  int triangle = u_first_triangle + gl_PrimitiveID;
   vec3 base = u_base_color;
   if (u_color_mode == 1) {
     base = scalar_color(v_value);
   } else if (u_color_mode == 2) {
-    base = scalar_color(texelFetch(u_triangle_values, gl_PrimitiveID).r);
+    base = scalar_color(texelFetch(u_triangle_values, triangle).r);
   } else if (u_color_mode == 3) {
     // The value of the nearest edge: the edge opposite the corner whose
     // barycentric coordinate is smallest.
     vec3 b = v_barycentric;
     int k = (b.x <= b.y && b.x <= b.z) ? 0 : (b.y <= b.z ? 1 : 2);
-    base = scalar_color(texelFetch(u_triangle_values, 3 * gl_PrimitiveID + k).r);
+    base = scalar_color(texelFetch(u_triangle_values, 3 * triangle + k).r);
   } else if (u_color_mode == 4) {
-    base = texelFetch(u_triangle_colors, gl_PrimitiveID).rgb;
+    base = texelFetch(u_triangle_colors, triangle).rgb;
   } else if (u_color_mode == 5) {
     // The colour of the nearest corner: the largest barycentric coordinate.
     vec3 b = v_barycentric;
     int k = (b.x >= b.y && b.x >= b.z) ? 0 : (b.y >= b.z ? 1 : 2);
-    base = texelFetch(u_triangle_colors, 3 * gl_PrimitiveID + k).rgb;
+    base = texelFetch(u_triangle_colors, 3 * triangle + k).rgb;
   }
-  bool highlighted = u_has_flags && (texelFetch(u_triangle_flags, gl_PrimitiveID).r & 1u) != 0u;
+  bool highlighted = u_has_flags && (texelFetch(u_triangle_flags, triangle).r & 1u) != 0u;
   if (highlighted) base = u_highlight_color;
 
   vec3 n;

@@ -44,6 +44,19 @@ void Adaptation::wait() {
   if (worker_.joinable()) worker_.join();
 }
 
+SurfaceMesh snapshot_mesh(const SurfaceMesh& adapted) {
+  SurfaceMesh copy = adapted;
+  for (const char* working : kRemesherWorkingProperties) copy.vertex_properties().remove(working);
+  return copy;
+}
+
+void Adaptation::drop_oldest_passes_of_run(std::size_t from) {
+  while (timeline_.size() > from + 1 + kMaxRunSnapshots) {
+    timeline_.erase(timeline_.begin() + static_cast<std::ptrdiff_t>(from + 1));
+    ++dropped_passes_;
+  }
+}
+
 std::vector<std::shared_ptr<const Snapshot>> Adaptation::timeline() const {
   std::lock_guard lock(mutex_);
   return timeline_;
@@ -178,7 +191,7 @@ void Adaptation::work(std::size_t from, int max_passes, bool prepare_only) {
       const auto t0 = Clock::now();
       const SurfaceMesh& m = adapted_->mesh();
       auto snap = std::make_shared<Snapshot>();
-      snap->mesh = m;
+      snap->mesh = snapshot_mesh(m);
       snap->metric.resize(static_cast<std::size_t>(m.vertex_capacity()));
       for (int v = 0; v < m.vertex_capacity(); ++v)
         snap->metric[v] = m.is_deleted(Vertex(v)) ? SymTensor3::identity(1.0) : adapted_->metric(Vertex(v));
@@ -199,6 +212,7 @@ void Adaptation::work(std::size_t from, int max_passes, bool prepare_only) {
       {
         std::lock_guard lock(mutex_);
         timeline_.push_back(std::move(snap));
+        drop_oldest_passes_of_run(from);
         built_from_ = timeline_.size() - 1;
         if (!stopped.empty()) error_ = stopped;
         ++version_;

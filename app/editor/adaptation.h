@@ -43,6 +43,21 @@ struct Snapshot {
   std::string label;  // "initial", "3 split" ...
 };
 
+// The vertex properties the remesher keeps for its own work (the metric,
+// normals, location hints: AdaptedMesh rebuilds them from a snapshot's mesh);
+// a snapshot's mesh goes without them (68 bytes per vertex slot), keeping
+// the placements (remesh::kPlacementProperty) and the solution fields.
+inline constexpr const char* kRemesherWorkingProperties[] = {"remesh:metric", "remesh:normal", "remesh:hint_g",
+                                                              "remesh:hint_0"};
+// A copy of the adapted mesh for a snapshot: without the working properties.
+SurfaceMesh snapshot_mesh(const SurfaceMesh& adapted);
+
+// A run keeps the snapshots of its last kMaxRunSnapshots passes; older
+// passes of the same run leave the timeline (the states before the run stay,
+// so a cancel still returns to where it started). A falcon-sized snapshot
+// takes about 7 MB.
+inline constexpr std::size_t kMaxRunSnapshots = 6;
+
 // The surface T_G over T_0 (G1 or polyhedral as settings say); it does not
 // depend on the metric, so a session builds it once per mesh, in the
 // background (start_geometry), and every adaptation of that mesh shares it.
@@ -82,6 +97,8 @@ class Adaptation {
   bool working() const { return running_; }
   // Drops the snapshots after `keep` (worker idle).
   void truncate(std::size_t keep);
+  // Passes that left the timeline under kMaxRunSnapshots since the start.
+  std::size_t dropped_passes() const { return dropped_passes_; }
 
   std::vector<std::shared_ptr<const Snapshot>> timeline() const;
   std::size_t size() const;
@@ -100,6 +117,9 @@ class Adaptation {
   // start() queued meanwhile, if any.
   void work(std::size_t from, int max_passes, bool prepare_only);
   void rebuild_from(const Snapshot& s);
+  // Under mutex_: keeps the last kMaxRunSnapshots passes of the run that
+  // started from snapshot `from`.
+  void drop_oldest_passes_of_run(std::size_t from);
 
   const SurfaceMesh& input_;
   bool t0_is_geometry_;
@@ -126,6 +146,7 @@ class Adaptation {
   std::optional<Queued> queued_;
   std::chrono::steady_clock::time_point start_requested_;
   std::atomic<std::uint64_t> version_{1};
+  std::atomic<std::size_t> dropped_passes_{0};
   std::atomic<double> last_pass_seconds_{0}, last_snapshot_seconds_{0}, last_setup_seconds_{0};
 };
 

@@ -82,7 +82,8 @@ int run_script_headless(const ScriptOptions& o) {
         const auto tl = session.timeline();
         const auto& last = tl.back();
         std::fprintf(stderr, "%s: %zu passes, %d vertices, %d triangles, in band %.1f%% (%.2f s)\n",
-                     line.where().c_str(), tl.size() - 1, last->mesh.n_vertices(), last->mesh.n_triangles(),
+                     line.where().c_str(), tl.size() - 1 + session.dropped_passes(), last->mesh.n_vertices(),
+                     last->mesh.n_triangles(),
                      last->has_report ? 100 * last->report.in_band_share : 0.0,
                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
       }

@@ -454,7 +454,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     const auto frame_start = Clock::now();
     const bool busy = a.session.running() || a.session.measuring() || a.session.metric_building() ||
                       a.ev.bezier_building() || !a.ev.settled(a.session, a.view) || next_line < script.size() ||
-                      !pending_shot.empty();
+                      !pending_shot.empty() || !renderer.last_frame().complete;
     release_held_keys(window, a);
     // Measured frames never wait for events (the wait would count as work).
     if (!busy && !o.frame_stats && frame_start - a.last_event > std::chrono::seconds(1))
@@ -514,9 +514,12 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
       glfwGetWindowSize(window, &ww, &wh);
       a.panels.hover = a.ev.hover(a.scene, static_cast<float>(a.mx * fbw / ww), static_cast<float>(a.my * fbh / wh), fbw, fbh);
     }
-    // One sample per pixel while the camera moves or the adaptation runs.
-    const bool moving = a.rotating || a.panning || a.session.running();
-    renderer.render(a.scene, fbw, fbh, moving ? 1 : a.scene.display.msaa_samples);
+    // One sample per pixel while the adaptation runs; the renderer's level of
+    // detail while the camera moves.
+    const bool camera_moving = a.rotating || a.panning;
+    renderer.render(a.scene, fbw, fbh,
+                    render::DrawOptions{a.session.running() ? 1 : a.scene.display.msaa_samples, camera_moving,
+                                        render::kInteractiveTriangleBudget});
     const auto t_draw = Clock::now();
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
@@ -525,7 +528,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     // A screenshot waits for the distance colours of the state shown.
-    if (!pending_shot.empty() && a.ev.settled(a.session, a.view) && (!a.session.has_mesh() || a.session.analysis_current()) &&
+    if (!pending_shot.empty() && renderer.last_frame().complete && a.ev.settled(a.session, a.view) && (!a.session.has_mesh() || a.session.analysis_current()) &&
         --shots_waiting_frames <= 0) {
       render::Image img(fbw, fbh);
       gl::glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -585,9 +588,9 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
       run_seconds = std::chrono::duration<double>(now - run_start).count();
       const auto tl = a.session.timeline();
       std::fprintf(stderr,
-                   "adaptation: done after %.2f s (%zu passes in the timeline); the window drew %d frames (%.1f fps, slowest frame %.0f ms); "
+                   "adaptation: done after %.2f s (%zu passes, %zu in the timeline); the window drew %d frames (%.1f fps, slowest frame %.0f ms); "
                    "last pass %.3f s\n",
-                   run_seconds, tl.size() - 1, run_frames, run_frames / std::max(run_seconds, 1e-9), 1000 * run_worst,
+                   run_seconds, tl.size() - 1 + a.session.dropped_passes(), tl.size() - 1, run_frames, run_frames / std::max(run_seconds, 1e-9), 1000 * run_worst,
                    tl.back()->has_report ? tl.back()->report.seconds : 0.0);
     }
     was_running = running;

@@ -420,6 +420,8 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
   const auto tl = s.timeline();
   const int n = static_cast<int>(tl.size());
   int shown = s.scrubbed() >= 0 ? s.scrubbed() : n - 1;
+  if (const std::size_t dropped = s.dropped_passes(); dropped > 0)
+    ImGui::TextDisabled("%zu earlier passes left the timeline (a run keeps its last %zu: memory)", dropped, kMaxRunSnapshots);
   if (n > 1) {
     ImGui::SetNextItemWidth(260);
     const std::string fmt_label = "%d: " + tl[static_cast<std::size_t>(shown)]->label;  // labels hold no '%'

@@ -235,6 +235,8 @@ class EditorSession {
   // The current adaptation's timings (adaptation.h), 0 without one.
   double last_setup_seconds() const { return adaptation_ ? adaptation_->last_setup_seconds() : 0; }
   double last_snapshot_seconds() const { return adaptation_ ? adaptation_->last_snapshot_seconds() : 0; }
+  // Passes that left the timeline (Adaptation::dropped_passes()).
+  std::size_t dropped_passes() const { return adaptation_ ? adaptation_->dropped_passes() : 0; }
 
   // --- display, analysis, selection -----------------------------------------
   DisplayState display() const;

@@ -212,10 +212,14 @@ void RenderTarget::ensure(int width, int height, int samples) {
 
 void RenderTarget::bind() const { glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id()); }
 
-void RenderTarget::resolve(GLuint target) const {
+void RenderTarget::resolve(GLuint target) const { resolve(target, width_, height_); }
+
+void RenderTarget::resolve(GLuint target, int target_width, int target_height) const {
+  const bool scaled = target_width != width_ || target_height != height_;
   glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_.id());
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-  glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  glBlitFramebuffer(0, 0, width_, height_, 0, 0, target_width, target_height, GL_COLOR_BUFFER_BIT,
+                    scaled ? GL_LINEAR : GL_NEAREST);
   glBindFramebuffer(GL_FRAMEBUFFER, target);
 }
 

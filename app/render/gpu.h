@@ -132,6 +132,11 @@ class RenderTarget {
   void bind() const;
   // Blits the colour into framebuffer `target` (0: the default one).
   void resolve(GLuint target) const;
+  // Blits the colour into the target_width x target_height framebuffer
+  // `target`, filtered linearly when the sizes differ (single-sample only).
+  void resolve(GLuint target, int target_width, int target_height) const;
+  // Blits the colour into `other` (same size; resolves the samples).
+  void resolve_into(const RenderTarget& other) const { resolve(other.fbo_.id(), other.width_, other.height_); }
   int width() const { return width_; }
   int height() const { return height_; }
   int samples() const { return samples_; }

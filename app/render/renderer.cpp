@@ -3,10 +3,15 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <future>
 #include <map>
+#include <optional>
+#include <type_traits>
 
 #include "render/gpu.h"
+#include "render/lod.h"
 
 namespace anisurf::render {
 
@@ -38,6 +43,9 @@ struct GpuSurface {
     std::size_t count = 0;
   };
   std::vector<Instances> curves, markers, glyphs;
+  // The interleaved corners of a newer version, prepared in the background.
+  std::future<std::vector<float>> corners_job;
+  std::uint64_t job_version = ~0ull;
 };
 
 std::vector<glm::vec3> smooth_normals(const TriangleSet& g) {
@@ -56,20 +64,25 @@ std::vector<glm::vec3> smooth_normals(const TriangleSet& g) {
   return n;
 }
 
-void upload_geometry(GpuSurface& gpu, const SurfaceStructure& s) {
-  const TriangleSet& g = s.geometry;
+// Per corner (3 per triangle): position, normal, interleaved.
+std::vector<float> interleaved_corners(const TriangleSet& g) {
   const bool corner_normals = g.corner_normals.size() == 3 * g.triangles.size();
   std::vector<glm::vec3> vn;
   if (!corner_normals) vn = smooth_normals(g);
-  std::vector<float> data;
-  data.reserve(g.triangles.size() * 18);
+  std::vector<float> data(g.triangles.size() * 18);
+  float* out = data.data();
   for (std::size_t t = 0; t < g.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k) {
       unsigned v = g.triangles[t][k];
       const glm::vec3& p = g.positions[v];
       const glm::vec3& n = corner_normals ? g.corner_normals[3 * t + static_cast<std::size_t>(k)] : vn[v];
-      data.insert(data.end(), {p.x, p.y, p.z, n.x, n.y, n.z});
+      for (float x : {p.x, p.y, p.z, n.x, n.y, n.z}) *out++ = x;
     }
+  return data;
+}
+
+void upload_geometry(GpuSurface& gpu, const SurfaceStructure& s, const std::vector<float>& data) {
+  const TriangleSet& g = s.geometry;
   gpu.n_corners = 3 * g.triangles.size();
   gpu.corners.upload(GL_ARRAY_BUFFER, data.data(), data.size() * sizeof(float));
   gpu.surface_vao.attribute(0, gpu.corners, 3, 6 * sizeof(float), 0);
@@ -163,6 +176,188 @@ void upload_quantity(GpuSurface& gpu, const SurfaceStructure& s) {
   }
 }
 
+// A proxy of one surface for the frames drawn while the camera moves, built
+// by a background job from a copy of the surface's triangles.
+struct SurfaceLod {
+  std::future<ProxyMesh> job;
+  std::uint64_t job_version = 0;       // the surface's version the job works on
+  std::uint64_t version = ~0ull;       // the surface's version `structure` stands for
+  std::optional<SurfaceStructure> structure;
+  GpuSurface gpu;
+};
+
+// Starts the proxy's job for the surface's current version, unless one runs.
+void start_proxy_job(SurfaceLod& lod, const SurfaceStructure& s) {
+  if (lod.job.valid()) return;
+  TriangleSet copy{s.geometry.positions, s.geometry.triangles, {}};
+  lod.job_version = s.version;
+  lod.job = std::async(std::launch::async,
+                       [g = std::move(copy)] { return make_proxy(g, kProxyMaxTriangles); });
+}
+
+// The proxy structure for the surface's current version, once its job is
+// done (nullptr before); starts or restarts the job as needed.
+const SurfaceStructure* ready_proxy(SurfaceLod& lod, const SurfaceStructure& s) {
+  using namespace std::chrono_literals;
+  if (lod.job.valid() && lod.job.wait_for(0s) == std::future_status::ready) {
+    ProxyMesh proxy = lod.job.get();
+    if (lod.job_version == s.version) {
+      lod.structure = proxy_structure(s, proxy);
+      lod.version = s.version;
+      upload_geometry(lod.gpu, *lod.structure, interleaved_corners(lod.structure->geometry));
+    }
+  }
+  if (lod.version != s.version) {
+    start_proxy_job(lod, s);
+    return nullptr;
+  }
+  // Toggles that change without a new version follow the full structure.
+  lod.structure->active = s.active;
+  for (std::size_t i = 0; i < s.scalars.size() && i < lod.structure->scalars.size(); ++i)
+    lod.structure->scalars[i].log_scale = s.scalars[i].log_scale;
+  return &*lod.structure;
+}
+
+// The bytes of everything a frame's picture depends on besides the data a
+// structure's version covers: equal bytes, equal pictures.
+class FrameKey {
+ public:
+  template <class T>
+  void add(const T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const auto* p = reinterpret_cast<const unsigned char*>(&value);
+    bytes_.insert(bytes_.end(), p, p + sizeof(T));
+  }
+  void add(const std::string& text) {
+    add(text.size());
+    bytes_.insert(bytes_.end(), text.begin(), text.end());
+  }
+  const std::vector<unsigned char>& bytes() const { return bytes_; }
+
+ private:
+  std::vector<unsigned char> bytes_;
+};
+
+void add_surface(FrameKey& key, const SurfaceStructure& s, bool through_proxy) {
+  key.add(s.name);
+  key.add(s.enabled);
+  key.add(s.version);
+  key.add(s.geometry.triangles.size());
+  key.add(through_proxy);
+  key.add(s.active);
+  key.add(s.color);
+  if (const ScalarQuantity* q = s.active_scalar()) {
+    key.add(q->range_min);
+    key.add(q->range_max);
+    key.add(q->log_scale);
+    key.add(q->colormap);
+  }
+  for (const EllipseGlyphs& e : s.glyphs) {
+    key.add(e.enabled);
+    key.add(e.density);
+    key.add(e.scale);
+    key.add(e.color);
+  }
+  for (const Curves& c : s.curves) {
+    key.add(c.enabled);
+    key.add(c.width_px);
+    key.add(c.color);
+  }
+  for (const Markers& m : s.markers) {
+    key.add(m.enabled);
+    key.add(m.radius_px);
+    key.add(m.color);
+  }
+}
+
+std::vector<unsigned char> frame_key(const Scene& scene, int width, int height, int samples, bool moving,
+                                     const std::vector<bool>& through_proxy) {
+  FrameKey key;
+  key.add(width);
+  key.add(height);
+  key.add(samples);
+  key.add(moving);
+  const float aspect = static_cast<float>(width) / static_cast<float>(std::max(height, 1));
+  key.add(scene.camera.view());
+  key.add(scene.camera.projection(aspect));
+  key.add(scene.camera.orthographic);
+  key.add(scene.camera.scene_radius);
+  const DisplayOptions& d = scene.display;
+  key.add(d.flat);
+  key.add(d.wireframe);
+  key.add(d.wire_width_px);
+  key.add(d.wire_color);
+  key.add(d.highlight_color);
+  key.add(d.background);
+  key.add(scene.surfaces.size());
+  for (std::size_t i = 0; i < scene.surfaces.size(); ++i) add_surface(key, scene.surfaces[i], through_proxy[i]);
+  return key.bytes();
+}
+
+// Picture size while the camera moves: this fraction of the output's.
+constexpr float kMovingScale = 0.5f;
+
+// What the passes of one picture share.
+struct FrameSetup {
+  glm::mat4 view{1}, proj{1};
+  glm::vec2 viewport{1};
+  int ortho = 0;
+  float lift = 0;
+  float pixel_scale = 1;  // target pixels per output pixel
+};
+
+FrameSetup frame_setup(const Scene& scene, int width, int height, int target_width, int target_height,
+                       float pixel_scale) {
+  const float aspect = static_cast<float>(width) / static_cast<float>(std::max(height, 1));
+  const Camera& cam = scene.camera;
+  return {cam.view(), cam.projection(aspect), glm::vec2(target_width, target_height), cam.orthographic ? 1 : 0,
+          cam.scene_radius * 2e-3f, pixel_scale};
+}
+
+// Binds `target` and clears it to the background, with the state the passes expect.
+void begin_picture(RenderTarget& target, int width, int height, int samples, const DisplayOptions& d) {
+  target.ensure(width, height, samples);
+  target.bind();
+  glViewport(0, 0, width, height);
+  glClearColor(d.background.r, d.background.g, d.background.b, 1.0f);
+  glClearDepth(1.0);
+  glDepthMask(GL_TRUE);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+}
+
+void set_pass_state() {
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LEQUAL);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_BLEND);
+}
+
+void end_passes() {
+  glBindVertexArray(0);
+  glUseProgram(0);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  check_gl("Renderer::draw");
+}
+
+std::size_t enabled_triangles(const Scene& scene) {
+  std::size_t n = 0;
+  for (const SurfaceStructure& s : scene.surfaces) n += s.enabled ? s.geometry.triangles.size() : 0;
+  return n;
+}
+
+// Which picture present() shows.
+enum class Shown { None, Fast, Full };
+
+// The full-detail picture drawn over several frames: the surfaces in order,
+// each one's triangles in slices, then its glyphs, curves and markers.
+struct FullProgress {
+  std::vector<unsigned char> key;  // frame_key() of the picture being drawn (empty: none)
+  std::size_t surface = 0;         // next surface
+  std::size_t triangle = 0;        // next triangle of that surface
+};
+
 }  // namespace
 
 struct Renderer::Impl {
@@ -172,7 +367,17 @@ struct Renderer::Impl {
   Program glyphs{"glyphs.vert", "glyphs.frag"};
   std::map<Colormap, Texture2D> colormaps;
   std::map<std::string, GpuSurface> cache;
-  RenderTarget target;
+  std::map<std::string, SurfaceLod> lods;
+  RenderTarget fast;      // the moving camera's picture (reduced resolution, one sample)
+  RenderTarget building;  // the full-detail picture being drawn (multisampled)
+  RenderTarget full;      // the last complete full-detail picture, resolved
+  std::vector<unsigned char> fast_key, full_key;  // frame_key() of the pictures in `fast` and `full`
+  FrameInfo fast_info, full_info;                 // what they hold
+  FullProgress progress;
+  Shown shown = Shown::None;
+  int output_width = 0, output_height = 0;
+  glm::vec3 background{1.0f};
+  FrameInfo last;
 
   const Texture2D& colormap(Colormap c) {
     auto it = colormaps.find(c);
@@ -182,70 +387,82 @@ struct Renderer::Impl {
     tex.upload_rgba8(256, 1, px.data(), true);
     return tex;
   }
-};
 
-Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
-  // Dummy textures so every sampler has a complete texture bound.
-  for (auto c : {Colormap::Viridis, Colormap::Coolwarm}) impl_->colormap(c);
-  check_gl("Renderer setup");
-}
+  // The GPU copy of a surface, uploaded when its version changed.
+  GpuSurface& gpu_of(const SurfaceStructure& s) {
+    GpuSurface& gpu = cache[s.name];
+    if (gpu.version != s.version) upload_geometry(gpu, s, interleaved_corners(s.geometry));
+    return gpu;
+  }
 
-Renderer::~Renderer() = default;
+  // Whether the GPU copy of `s` is current; if not, its corners are prepared
+  // by a background job and uploaded once the job is done.
+  bool uploaded_in_background(const SurfaceStructure& s) {
+    using namespace std::chrono_literals;
+    GpuSurface& gpu = cache[s.name];
+    if (gpu.version == s.version) return true;
+    if (gpu.corners_job.valid()) {
+      if (gpu.corners_job.wait_for(0s) != std::future_status::ready) return false;  // never waited for
+      std::vector<float> corners = gpu.corners_job.get();
+      if (gpu.job_version == s.version) {
+        upload_geometry(gpu, s, corners);
+        return true;
+      }
+    }
+    // None for this version (or an outdated one just ended): start it.
+    gpu.job_version = s.version;
+    gpu.corners_job = std::async(std::launch::async, [g = TriangleSet{s.geometry}] { return interleaved_corners(g); });
+    return false;
+  }
 
-void Renderer::clear_cache() { impl_->cache.clear(); }
+  bool all_uploaded_in_background(const Scene& scene) {
+    bool all = true;
+    for (const SurfaceStructure& s : scene.surfaces)
+      if (s.enabled && !s.geometry.triangles.empty()) all = uploaded_in_background(s) && all;
+    return all;
+  }
 
-void Renderer::draw(const Scene& scene, int width, int height, int samples) {
-  Impl& r = *impl_;
-  const DisplayOptions& d = scene.display;
-  r.target.ensure(width, height, std::max(1, samples > 0 ? samples : d.msaa_samples));
-  r.target.bind();
-  glViewport(0, 0, width, height);
-  glClearColor(d.background.r, d.background.g, d.background.b, 1.0f);
-  glClearDepth(1.0);
-  glDepthMask(GL_TRUE);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LEQUAL);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_SCISSOR_TEST);
-  glDisable(GL_BLEND);
+  // Triangles the fast picture would draw now (proxies where built).
+  std::size_t fast_triangles(const Scene& scene) const {
+    std::size_t n = 0;
+    for (const SurfaceStructure& s : scene.surfaces) {
+      if (!s.enabled) continue;
+      auto it = lods.find(s.name);
+      const bool proxy = s.geometry.triangles.size() > kProxyMinTriangles && it != lods.end() &&
+                         it->second.version == s.version && it->second.structure;
+      n += proxy ? it->second.structure->geometry.triangles.size() : s.geometry.triangles.size();
+    }
+    return n;
+  }
 
-  const float aspect = static_cast<float>(width) / static_cast<float>(std::max(height, 1));
-  const Camera& cam = scene.camera;
-  const glm::mat4 view = cam.view(), proj = cam.projection(aspect);
-  const glm::vec2 viewport(width, height);
-  const int ortho = cam.orthographic ? 1 : 0;
-  const float lift = cam.scene_radius * 2e-3f;
-
-  for (const SurfaceStructure& s : scene.surfaces) {
-    if (!s.enabled || s.geometry.triangles.empty()) continue;
-    GpuSurface& gpu = r.cache[s.name];
-    if (gpu.version != s.version) upload_geometry(gpu, s);
-    upload_quantity(gpu, s);
-
-    // Surface.
-    Program& p = r.surface;
+  // Triangles [first, first + count) of `shaded`'s GPU copy `gpu`; uniforms
+  // (colours, ranges) from the surface `s` it stands for.
+  void draw_surface(const SurfaceStructure& s, const SurfaceStructure& shaded, GpuSurface& gpu, const FrameSetup& f,
+                    const DisplayOptions& d, std::size_t first, std::size_t count) {
+    upload_quantity(gpu, shaded);
+    Program& p = surface;
     p.use();
-    p.set("u_view", view);
-    p.set("u_projection", proj);
+    p.set("u_view", f.view);
+    p.set("u_projection", f.proj);
     p.set("u_base_color", s.color);
     p.set("u_flat", d.flat ? 1 : 0);
     p.set("u_wireframe", d.wireframe ? 1 : 0);
-    p.set("u_wire_width", d.wire_width_px);
+    p.set("u_wire_width", std::max(1.0f, d.wire_width_px * f.pixel_scale));
     p.set("u_wire_color", d.wire_color);
     p.set("u_highlight_color", d.highlight_color);
-    p.set("u_orthographic", ortho);
+    p.set("u_orthographic", f.ortho);
     p.set("u_has_flags", gpu.has_flags ? 1 : 0);
     p.set("u_colormap", kUnitColormap);
     p.set("u_triangle_values", kUnitTriangleValues);
     p.set("u_triangle_colors", kUnitTriangleColors);
     p.set("u_triangle_flags", kUnitTriangleFlags);
+    p.set("u_first_triangle", static_cast<int>(first));
     int mode = 0;
-    r.colormap(Colormap::Viridis).bind(kUnitColormap);
+    colormap(Colormap::Viridis).bind(kUnitColormap);
     if (const ScalarQuantity* q = s.active_scalar()) {
       mode = q->location == ScalarLocation::Vertex ? 1 : q->location == ScalarLocation::Triangle ? 2 : 3;
       p.set("u_range", glm::vec2(mapped(q->range_min, q->log_scale), mapped(q->range_max, q->log_scale)));
-      r.colormap(q->colormap).bind(kUnitColormap);
+      colormap(q->colormap).bind(kUnitColormap);
     } else if (s.active_label()) {
       mode = 4;
     } else if (s.active_categories()) {
@@ -259,44 +476,45 @@ void Renderer::draw(const Scene& scene, int width, int height, int samples) {
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(1.0f, 1.0f);
     gpu.surface_vao.bind();
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(gpu.n_corners));
+    glDrawArrays(GL_TRIANGLES, static_cast<GLint>(3 * first), static_cast<GLsizei>(3 * count));
     glDisable(GL_POLYGON_OFFSET_FILL);
+  }
 
+  // Glyphs, curves and markers of `s` (on top of the surfaces drawn so far).
+  void draw_overlays(const SurfaceStructure& s, GpuSurface& gpu, const FrameSetup& f) {
     glEnable(GL_BLEND);
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-
     // Glyphs (translucent fill: no depth writes).
     glDepthMask(GL_FALSE);
     for (std::size_t i = 0; i < s.glyphs.size() && i < gpu.glyphs.size(); ++i) {
       const EllipseGlyphs& e = s.glyphs[i];
       std::size_t n = std::min(e.drawn_count(), gpu.glyphs[i].count);
       if (!e.enabled || n == 0) continue;
-      Program& g = r.glyphs;
+      Program& g = glyphs;
       g.use();
-      g.set("u_view", view);
-      g.set("u_projection", proj);
+      g.set("u_view", f.view);
+      g.set("u_projection", f.proj);
       g.set("u_scale", e.scale);
       g.set("u_lift", 0.2f);
-      g.set("u_orthographic", ortho);
+      g.set("u_orthographic", f.ortho);
       // Over a colour quantity: light glyphs with dark outlines.
       g.set("u_color", s.active.empty() ? e.color : glm::vec3(0.97f));
       gpu.glyphs[i].vao.bind();
       glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(n));
     }
     glDepthMask(GL_TRUE);
-
     // Curves, then markers on top of them.
     for (std::size_t i = 0; i < s.curves.size() && i < gpu.curves.size(); ++i) {
       const Curves& c = s.curves[i];
       if (!c.enabled || gpu.curves[i].count == 0) continue;
-      Program& g = r.curves;
+      Program& g = curves;
       g.use();
-      g.set("u_view", view);
-      g.set("u_projection", proj);
-      g.set("u_viewport", viewport);
-      g.set("u_width", c.width_px);
-      g.set("u_lift", lift);
-      g.set("u_orthographic", ortho);
+      g.set("u_view", f.view);
+      g.set("u_projection", f.proj);
+      g.set("u_viewport", f.viewport);
+      g.set("u_width", c.width_px * f.pixel_scale);
+      g.set("u_lift", f.lift);
+      g.set("u_orthographic", f.ortho);
       g.set("u_color", c.color);
       gpu.curves[i].vao.bind();
       glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(gpu.curves[i].count));
@@ -304,29 +522,185 @@ void Renderer::draw(const Scene& scene, int width, int height, int samples) {
     for (std::size_t i = 0; i < s.markers.size() && i < gpu.markers.size(); ++i) {
       const Markers& m = s.markers[i];
       if (!m.enabled || gpu.markers[i].count == 0) continue;
-      Program& g = r.markers;
+      Program& g = markers;
       g.use();
-      g.set("u_view", view);
-      g.set("u_projection", proj);
-      g.set("u_viewport", viewport);
-      g.set("u_radius", m.radius_px);
-      g.set("u_lift", 2.0f * lift);
-      g.set("u_orthographic", ortho);
+      g.set("u_view", f.view);
+      g.set("u_projection", f.proj);
+      g.set("u_viewport", f.viewport);
+      g.set("u_radius", m.radius_px * f.pixel_scale);
+      g.set("u_lift", 2.0f * f.lift);
+      g.set("u_orthographic", f.ortho);
       g.set("u_color", m.color);
       gpu.markers[i].vao.bind();
       glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(gpu.markers[i].count));
     }
     glDisable(GL_BLEND);
   }
-  glBindVertexArray(0);
-  glUseProgram(0);
-  glDisable(GL_DEPTH_TEST);
-  check_gl("Renderer::draw");
+
+  void draw_fast(const Scene& scene, int width, int height);
+  void draw_full(const Scene& scene, int width, int height, const DrawOptions& options);
+  std::size_t continue_full(const Scene& scene, int width, int height, std::size_t budget);
+};
+
+// The moving camera's picture: reduced resolution, one sample, proxies of
+// the large surfaces once built.
+void Renderer::Impl::draw_fast(const Scene& scene, int width, int height) {
+  const int tw = std::max(1, static_cast<int>(std::lround(static_cast<float>(width) * kMovingScale)));
+  const int th = std::max(1, static_cast<int>(std::lround(static_cast<float>(height) * kMovingScale)));
+  std::vector<const SurfaceStructure*> proxies(scene.surfaces.size(), nullptr);
+  std::vector<bool> through_proxy(scene.surfaces.size(), false);
+  for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+    const SurfaceStructure& s = scene.surfaces[i];
+    if (!s.enabled || s.geometry.triangles.size() <= kProxyMinTriangles) continue;
+    proxies[i] = ready_proxy(lods[s.name], s);
+    through_proxy[i] = proxies[i] != nullptr;
+  }
+  shown = Shown::Fast;
+  std::vector<unsigned char> key = frame_key(scene, width, height, 1, true, through_proxy);
+  if (key == fast_key && fast.width() == tw && fast.height() == th) {
+    last = fast_info;
+    last.redrawn = false;
+    return;
+  }
+  fast_key = std::move(key);
+  last = FrameInfo{true, tw, th, 1, 0, 0, true};
+  begin_picture(fast, tw, th, 1, scene.display);
+  set_pass_state();
+  const FrameSetup f = frame_setup(scene, width, height, tw, th, kMovingScale);
+  for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+    const SurfaceStructure& s = scene.surfaces[i];
+    if (!s.enabled || s.geometry.triangles.empty()) continue;
+    GpuSurface& gpu = gpu_of(s);
+    const SurfaceStructure& shaded = proxies[i] ? *proxies[i] : s;
+    GpuSurface& shaded_gpu = proxies[i] ? lods[s.name].gpu : gpu;
+    draw_surface(s, shaded, shaded_gpu, f, scene.display, 0, shaded.geometry.triangles.size());
+    draw_overlays(s, gpu, f);
+    last.triangles += shaded.geometry.triangles.size();
+    last.proxies += proxies[i] ? 1 : 0;
+  }
+  end_passes();
+  fast_info = last;
+}
+
+// Draws the next slices of the full-detail picture, at most `budget`
+// triangles (0: all); clears progress.key once the picture is complete.
+// Returns the triangles drawn.
+std::size_t Renderer::Impl::continue_full(const Scene& scene, int width, int height, std::size_t budget) {
+  building.bind();
+  glViewport(0, 0, width, height);
+  set_pass_state();
+  const FrameSetup f = frame_setup(scene, width, height, width, height, 1.0f);
+  std::size_t left = budget > 0 ? budget : ~std::size_t{0};
+  std::size_t drawn = 0;
+  FullProgress& at = progress;
+  for (; at.surface < scene.surfaces.size(); ++at.surface, at.triangle = 0) {
+    const SurfaceStructure& s = scene.surfaces[at.surface];
+    if (!s.enabled || s.geometry.triangles.empty()) continue;
+    GpuSurface& gpu = gpu_of(s);
+    const std::size_t n = s.geometry.triangles.size();
+    const std::size_t count = std::min(left, n - at.triangle);
+    if (count > 0) draw_surface(s, s, gpu, f, scene.display, at.triangle, count);
+    at.triangle += count;
+    left -= count;
+    drawn += count;
+    if (at.triangle < n) break;  // out of budget
+    draw_overlays(s, gpu, f);
+  }
+  end_passes();
+  if (at.surface >= scene.surfaces.size()) at.key.clear();
+  return drawn;
+}
+
+// The still picture: full resolution and multisampling, drawn over as many
+// frames as options.triangle_budget asks; the last complete picture (full
+// or fast) stays shown meanwhile.
+void Renderer::Impl::draw_full(const Scene& scene, int width, int height, const DrawOptions& options) {
+  const int samples = std::max(1, options.samples > 0 ? options.samples : scene.display.msaa_samples);
+  const std::vector<bool> no_proxy(scene.surfaces.size(), false);
+  std::vector<unsigned char> key = frame_key(scene, width, height, samples, false, no_proxy);
+  if (key == full_key && full.width() == width && full.height() == height) {
+    shown = Shown::Full;
+    last = full_info;
+    last.redrawn = false;
+    return;
+  }
+  const bool sliced = options.triangle_budget > 0;
+  if (key != progress.key) {
+    // A new picture: with a budget, once the GPU copies are prepared in the
+    // background (the last picture stays shown meanwhile).
+    last = FrameInfo{false, width, height, samples, 0, 0, false};
+    if (sliced && !all_uploaded_in_background(scene)) return;
+    const bool interrupted = !progress.key.empty();
+    progress = FullProgress{key, 0, 0};
+    begin_picture(building, width, height, samples, scene.display);
+    // A picture left unfinished for a newer one: the fast picture of this
+    // frame answers meanwhile when it fits the budget.
+    if (interrupted && fast_triangles(scene) <= options.triangle_budget) {
+      draw_fast(scene, width, height);
+      last.complete = false;
+      return;
+    }
+  }
+  last = FrameInfo{true, width, height, samples, continue_full(scene, width, height, options.triangle_budget), 0,
+                   false};
+  if (!progress.key.empty()) return;  // more slices in the next frames
+  full.ensure(width, height, 1);
+  building.resolve_into(full);
+  full_key = std::move(key);
+  shown = Shown::Full;
+  last = FrameInfo{true, width, height, samples, enabled_triangles(scene), 0, true};
+  full_info = last;
+}
+
+Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
+  // Dummy textures so every sampler has a complete texture bound.
+  for (auto c : {Colormap::Viridis, Colormap::Coolwarm}) impl_->colormap(c);
+  check_gl("Renderer setup");
+}
+
+Renderer::~Renderer() = default;
+
+void Renderer::clear_cache() {
+  impl_->cache.clear();
+  impl_->lods.clear();
+  impl_->fast_key.clear();
+  impl_->full_key.clear();
+  impl_->progress = FullProgress{};
+}
+
+const FrameInfo& Renderer::last_frame() const { return impl_->last; }
+
+bool Renderer::proxies_pending() const {
+  for (const auto& [name, lod] : impl_->lods)
+    if (lod.job.valid()) return true;
+  return false;
+}
+
+void Renderer::draw(const Scene& scene, int width, int height, const DrawOptions& options) {
+  Impl& r = *impl_;
+  r.output_width = width;
+  r.output_height = height;
+  r.background = scene.display.background;
+  if (options.camera_moving) {
+    r.progress = FullProgress{};  // the still picture starts again once the camera stops
+    r.draw_fast(scene, width, height);
+  } else {
+    r.draw_full(scene, width, height, options);
+  }
 }
 
 void Renderer::present() {
-  impl_->target.resolve(0);
-  glViewport(0, 0, impl_->target.width(), impl_->target.height());
+  Impl& r = *impl_;
+  if (r.shown == Shown::Full) {
+    r.full.resolve(0, r.output_width, r.output_height);
+  } else if (r.shown == Shown::Fast) {
+    r.fast.resolve(0, r.output_width, r.output_height);
+  } else {  // nothing complete yet
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glClearColor(r.background.r, r.background.g, r.background.b, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+  }
+  glViewport(0, 0, r.output_width, r.output_height);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
   check_gl("Renderer::present");

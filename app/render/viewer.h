@@ -16,6 +16,9 @@ struct ViewerOptions {
   // > 0: benchmark instead of interacting: orbit the camera 360 degrees in
   // this many frames without the cap, print the frame rate, close.
   int bench_orbit_frames = 0;
+  // The benchmark's frames drawn as still ones (full resolution, the
+  // multisampling of the options, no proxy) instead of as a moving camera.
+  bool bench_full_detail = false;
 };
 
 // Opens the window and runs until it is closed (or the benchmark ends).
