@@ -164,6 +164,16 @@ void check_panel_screenshots(const std::filesystem::path& dir) {
   CHECK(std::filesystem::file_size(dir / "adapted.sol") > 10000);
 }
 
+// Updates the view until the state it shows is built (in the view's threads); false when it takes over 10 s.
+bool update_until_settled(EditorView& ev, EditorSession& s, ViewState& v, render::Scene& scene) {
+  ev.update(s, v, scene, 1.6f, 0, 0);
+  for (int i = 0; i < 2000 && !ev.settled(s, v); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    ev.update(s, v, scene, 1.6f, 0, 0);
+  }
+  return ev.settled(s, v);
+}
+
 }  // namespace
 
 TEST_CASE("editor: control net of a Clough-Tocher patch: 3 quartic subtriangles, inner edges shared") {
@@ -555,14 +565,7 @@ TEST_CASE("editor: the distance colours: T_1's distance to T_G per vertex, after
   EditorView ev;
   render::Scene scene;
   // The view shows a state with its distance once measured (in the session's thread).
-  auto update = [&] {
-    ev.update(s, v, scene, 1.6f, 0, 0);
-    for (int i = 0; i < 2000 && !ev.settled(s, v); ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-      ev.update(s, v, scene, 1.6f, 0, 0);
-    }
-    CHECK(ev.settled(s, v));
-  };
+  auto update = [&] { CHECK(update_until_settled(ev, s, v, scene)); };
   auto shown_distance = [&]() -> const render::ScalarQuantity* {
     for (const auto& st : scene.surfaces)
       if (st.name == "mesh") return st.active_scalar();
@@ -669,11 +672,7 @@ TEST_CASE("editor: the fallback colours: the vertices pulled to the input, count
   render::Scene scene;
   // The view builds the structure of a state in its thread: updates until it is shown.
   auto shown = [&]() -> const render::VertexCategories* {
-    ev.update(s, v, scene, 1.6f, 0, 0);
-    for (int i = 0; i < 2000 && !ev.settled(s, v); ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-      ev.update(s, v, scene, 1.6f, 0, 0);
-    }
+    update_until_settled(ev, s, v, scene);
     for (const auto& st : scene.surfaces)
       if (st.name == "mesh") return st.active_categories();
     return nullptr;
@@ -846,14 +845,7 @@ TEST_CASE("editor: the size legend follows painted values beyond its range, and 
   v.color = render::quantity::kSize;
   EditorView ev;
   render::Scene scene;
-  auto update = [&] {
-    ev.update(s, v, scene, 1.6f, 0, 0);
-    for (int i = 0; i < 2000 && !ev.settled(s, v); ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-      ev.update(s, v, scene, 1.6f, 0, 0);
-    }
-    REQUIRE(ev.settled(s, v));
-  };
+  auto update = [&] { REQUIRE(update_until_settled(ev, s, v, scene)); };
   auto size_range = [&]() -> std::array<float, 2> {
     for (const auto& st : scene.surfaces)
       if (st.name == "mesh")
