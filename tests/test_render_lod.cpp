@@ -292,7 +292,7 @@ TEST_CASE("renderer frames: a still picture over the triangle budget is drawn in
 TEST_CASE("renderer frames: switching between one sample and multisampling keeps each target (no reallocation)") {
   // The editor draws with one sample while a pass runs and with 4 otherwise.
   // A 4-sample 1280x800 target is 33 MB: allocated again at each switch, its
-  // pages are faulted in again (8000 faults, 100-230 ms on llvmpipe here).
+  // 8000 pages would be faulted in again.
   const int w = 1280, h = 800;
   OffscreenContext context(w, h);
   Renderer r;

@@ -371,9 +371,9 @@ struct Renderer::Impl {
   RenderTarget fast;      // the moving camera's picture (reduced resolution, one sample)
   // The full-detail picture being drawn, one target per sample count asked
   // (the editor draws with one sample while a pass runs and with its
-  // multisampling otherwise): switching keeps each target's memory, where a
-  // reallocation of the 4-sample 1280x800 target page-faulted 33 MB again
-  // (100-230 ms on llvmpipe here).
+  // multisampling otherwise): switching keeps each target's memory instead
+  // of reallocating it (a 4-sample 1280x800 target is 33 MB of pages to
+  // fault in again).
   std::map<int, RenderTarget> building_targets;
   RenderTarget* building_now = nullptr;
   RenderTarget& building_for(int samples) { return *(building_now = &building_targets[samples]); }
