@@ -22,8 +22,8 @@ while (($#)); do
     *) echo "usage: bench/bench_view.sh [--runs N] [--frames N] [--full-detail] [--compare BINARY]" >&2; exit 2 ;;
   esac
 done
-shared="${ANISURF_SHARED:-/work/shared}"
-work="${WORK:-/tmp/anisurf-bench-view}"
+shared="${ANISURF_SHARED:-$PWD/../shared}"  # the shared data beside the checkout (the cwd is the checkout)
+work="${WORK:-${TMPDIR:-/tmp}/anisurf-bench-view}"
 mkdir -p "$work"
 sphere="$work/sphere18m.mesh"
 if [[ ! -s "$sphere" ]]; then
