@@ -35,6 +35,8 @@ import subprocess
 import sys
 import time
 
+from mmg_peer import find_mmgs
+
 # Mmg 5.8.0 mmgs on these cases (bench/README.md): V, T, time s, RSS MB,
 # % in band, q min, q mean, qc mean, max distance to the sphere (vertices, centroids).
 MMGS = {
@@ -75,14 +77,6 @@ PEER_CASES = {
 }
 # Sizes of the scaling series on sphere20k (the unit sphere: about 29 / h^2 triangles).
 SCALING_SIZES = [0.054, 0.017, 0.0054, 0.0031]
-
-
-def find_mmgs():
-    import shutil
-    for p in (shutil.which("mmgs_O3"), shutil.which("mmgs"), "/tmp/mmg-peer/mmg/build/bin/mmgs_O3"):
-        if p and os.path.exists(p):
-            return p
-    return None
 
 
 def mesh_vertex_count(path):

@@ -47,6 +47,8 @@ import time
 import numpy as np
 from scipy.spatial import cKDTree
 
+from mmg_peer import find_mmgs
+
 TABLE1 = ["chamfer_cube.mesh", "featuretype.STL", "fixed_top.ply", "fandisk.off", "falcon.mesh", "beetle.off",
           "Duck.glb", "Suzanne.gltf", "thinker.mesh"]
 TABLE2 = ["falcon.mesh", "bunny.off", "fixed_top.ply", "fandisk.off", "featuretype.STL"]
@@ -269,14 +271,6 @@ def fmt(x, spec, none="-"):
 
 def out_dir_default():
     return os.path.join(os.environ.get("TMPDIR", "/tmp"), "fidelity")
-
-
-def find_mmgs():
-    p = shutil.which("mmgs_O3")
-    if p:
-        return p
-    p = "/tmp/mmg-peer/mmg/build/bin/mmgs_O3"
-    return p if os.access(p, os.X_OK) else None
 
 
 def binary_id(path):
