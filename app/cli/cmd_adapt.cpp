@@ -105,6 +105,9 @@ const char* kAdaptHelp =
     "  --max-growth K       stop (error, nothing written) when the mesh grows past K x\n"
     "                       the predicted vertices + the input's: a metric the\n"
     "                       surface's curvature cannot carry (default 8; 0: no limit)\n"
+    "  --threads N          threads (default 0: all cores): the mesh is remeshed as N\n"
+    "                       regions at once, then the band around their borders; the\n"
+    "                       output depends on N, not on the timing (1: serial)\n"
     "  --relax N            Remark 6: adapt first to N relaxed metrics between the\n"
     "                       input mesh's sizes and the target (default 0: off)\n"
     "  --report FILE        per-pass report (JSON)\n"
@@ -227,6 +230,7 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
   o.remesh.max_rounds = int_option(p, "--rounds", o.remesh.max_rounds, 1, "a number of rounds >= 1");
   o.remesh.relaxation_stages = int_option(p, "--relax", 0, 0, "a number of stages >= 0");
   o.cycles = int_option(p, "--cycles", 1, 1, "a number of cycles >= 1");
+  o.threads = int_option(p, "--threads", 0, 0, "a number of threads >= 0 (0: all cores)");
   o.fixed_point = p.option_double("--fixed-point", o.fixed_point);
   const double max_memory_mb = p.option_double("--max-memory", 0);
   if (!(max_memory_mb >= 0)) throw UsageError{"--max-memory expects megabytes >= 0 (0: the machine's memory)"};
@@ -492,11 +496,16 @@ void print_summary(const AdaptCommandLine& c, int cycles, const remesh::AdaptRes
   std::printf("operations   %d splits, %d collapses, %d swaps, %d moves, %d removed (valence < 4)\n", splits,
               collapses, swaps, moves, removed);
   const double hausd = c.hausd > 0 ? c.hausd : r.protection_hausd;
-  if (!r.cycles.back().passes.empty()) {
-    const remesh::PassReport& last = r.cycles.back().passes.back();
-    if (hausd > 0)
-      std::printf("distance     %d splits onto the input; %d edge midpoints or centroids farther than hausd %.4g\n",
-                  last.bound_splits, last.beyond_bound, hausd);
+  if (hausd > 0 && !r.cycles.back().passes.empty()) {
+    // The final passes: one, or one per region and the band (--threads).
+    int bound_splits = 0, beyond = 0;
+    for (const auto& p : r.cycles.back().passes)
+      if (p.kind == remesh::PassKind::Final) {
+        bound_splits += p.bound_splits;
+        beyond += p.beyond_bound;
+      }
+    std::printf("distance     %d splits onto the input; %d edge midpoints or centroids farther than hausd %.4g\n",
+                bound_splits, beyond, hausd);
   }
   std::printf("remeshing    %.2f s, %s operations per second\n", run_seconds,
               format_rate(splits + collapses + swaps + moves + removed, run_seconds).c_str());

@@ -139,7 +139,10 @@ void ProgressDisplay::draw_live(double elapsed) {
 
 void ProgressDisplay::pass(const remesh::PassReport& r, double elapsed) {
   if (options_.verbose <= 0) return;
-  const std::string name(remesh::pass_name(r.kind));
+  // Regions remeshed at once (--threads) report their passes interleaved:
+  // each pass line (-v 2) or each region's final line (-v 1) names its region.
+  const std::string name = r.region >= 0 ? "region " + std::to_string(r.region) + " " + std::string(remesh::pass_name(r.kind))
+                                         : std::string(remesh::pass_name(r.kind));
   live_.round = r.round;
   pass_name_ = name;
   live_.pass = pass_name_;
@@ -150,6 +153,11 @@ void ProgressDisplay::pass(const remesh::PassReport& r, double elapsed) {
   live_.vertices = r.vertices;
   if (options_.verbose >= 2) {
     line(format_pass_line(r, name));
+    return;
+  }
+  if (r.region >= 0) {
+    if (r.kind == remesh::PassKind::Final) line(format_pass_line(r, name));
+    else draw_live(elapsed);
     return;
   }
   // -v 1: the sums of a round, printed when the next round (or the final pass)

@@ -5,16 +5,29 @@
 // any number of chunks.
 #pragma once
 #include <algorithm>
+#include <atomic>
 #include <thread>
 #include <vector>
 
 namespace anisurf {
 
-// How many chunks to cut n indices into: one per hardware thread, but no
+// The number of threads the engine's loops may use (a process-wide setting:
+// the command line's --threads); 0: one per hardware thread.
+inline std::atomic<int>& thread_limit() {
+  static std::atomic<int> limit{0};
+  return limit;
+}
+
+// The threads a loop may use: thread_limit(), or the hardware's.
+inline int available_threads() {
+  const int limit = thread_limit().load();
+  return limit > 0 ? limit : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
+// How many chunks to cut n indices into: one per available thread, but no
 // chunk under min_per_chunk indices (threads cost more than small loops).
 inline int chunk_count(int n, int min_per_chunk) {
-  const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  return std::clamp(n / std::max(min_per_chunk, 1), 1, threads);
+  return std::clamp(n / std::max(min_per_chunk, 1), 1, available_threads());
 }
 
 // Calls work(chunk, begin, end) for `chunks` consecutive ranges covering

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 #include <typeinfo>
+#include <utility>
 #include <vector>
 
 namespace anisurf {
@@ -21,6 +22,10 @@ class BasePropertyArray {
   // Keeps entries whose keep_map[i] >= 0, moved to keep_map[i]; new size n.
   virtual void compact(const std::vector<int>& keep_map, std::size_t n) = 0;
   virtual std::unique_ptr<BasePropertyArray> clone() const = 0;
+  // An empty array of the same name, type and initial value.
+  virtual std::unique_ptr<BasePropertyArray> clone_empty() const = 0;
+  // Entry j takes entry i of `from` (pre: same type).
+  virtual void copy_entry(const BasePropertyArray& from, std::size_t i, std::size_t j) = 0;
   virtual const std::type_info& type() const = 0;
   virtual std::size_t size() const = 0;
   const std::string& name() const { return name_; }
@@ -49,6 +54,12 @@ class PropertyArray final : public BasePropertyArray {
     auto p = std::make_unique<PropertyArray<T>>(name(), init_);
     p->data_ = data_;
     return p;
+  }
+  std::unique_ptr<BasePropertyArray> clone_empty() const override {
+    return std::make_unique<PropertyArray<T>>(name(), init_);
+  }
+  void copy_entry(const BasePropertyArray& from, std::size_t i, std::size_t j) override {
+    data_[j] = static_cast<const PropertyArray<T>&>(from).data_[i];
   }
   const std::type_info& type() const override { return typeid(T); }
   std::size_t size() const override { return data_.size(); }
@@ -152,6 +163,26 @@ class PropertyContainer {
     return true;
   }
   void clear() { arrays_.clear(); size_ = 0; }
+  // The same arrays (names, types, initial values), no entries.
+  PropertyContainer empty_like() const {
+    PropertyContainer c;
+    for (const auto& a : arrays_) c.arrays_.push_back(a->clone_empty());
+    return c;
+  }
+  // The arrays of this container and of `from` with the same name and type,
+  // as (to, from) pairs: copy entries between containers of one layout.
+  using ArrayPairs = std::vector<std::pair<BasePropertyArray*, const BasePropertyArray*>>;
+  ArrayPairs pairs_with(const PropertyContainer& from) {
+    ArrayPairs out;
+    for (const auto& a : arrays_) {
+      const BasePropertyArray* b = from.find(a->name());
+      if (b && b->type() == a->type()) out.emplace_back(a.get(), b);
+    }
+    return out;
+  }
+  static void copy_entry(const ArrayPairs& pairs, std::size_t i, std::size_t j) {
+    for (const auto& [to, from] : pairs) to->copy_entry(*from, i, j);
+  }
 
  private:
   BasePropertyArray* find(const std::string& name) const {

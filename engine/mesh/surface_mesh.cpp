@@ -303,6 +303,15 @@ CompactMap SurfaceMesh::compact() {
   return map;
 }
 
+SurfaceMesh SurfaceMesh::empty_like() const {
+  SurfaceMesh m;
+  m.dimension_ = dimension_;
+  m.fields_ = fields_;
+  m.vprops_ = vprops_.empty_like();
+  m.tprops_ = tprops_.empty_like();
+  return m;
+}
+
 void SurfaceMesh::clear() {
   vpos_.clear();
   vcorner_.clear();

@@ -64,6 +64,10 @@ enum Tag : std::uint8_t {
   kRequired = 1 << 3,  // must not be moved or removed
   kListed = 1 << 4,    // edge listed in the file's Edges section (kept on output)
   kNonManifold = 1 << 5,  // edge that was cut because more than 2 triangles shared it
+  // Vertex on the border of a region cut out for remeshing on its own
+  // thread (remesh/partition.h): no new edge may join two of them (the
+  // edge may exist outside the region).
+  kFrozen = 1 << 6,
 };
 
 // Result of validate(): empty `errors` means every invariant holds.
@@ -385,6 +389,10 @@ class SurfaceMesh {
   void delete_vertex(Vertex v);      // pre: no live triangle uses v
   // Removes deleted slots; returns the renumbering. Properties follow.
   CompactMap compact();
+  // A mesh with no elements and this one's layout: dimension, fields, and
+  // property arrays of the same names and types (for copying elements
+  // between the two: PropertyContainer::pairs_with).
+  SurfaceMesh empty_like() const;
   void clear();
   void reserve(int n_vertices, int n_triangles);
 

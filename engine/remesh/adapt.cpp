@@ -12,7 +12,9 @@
 #include <cstdio>
 
 #include "core/error.h"
+#include "geometry/parallel_chunks.h"
 #include "metric/surface_metric.h"
+#include "remesh/parallel.h"
 
 namespace anisurf::remesh {
 
@@ -190,6 +192,7 @@ void check_options(const AdaptOptions& o) {
   if (o.remesh.relaxation_stages < 0) throw Error("the number of relaxation stages must be >= 0");
   if (!(o.memory_limit >= 0)) throw Error("the memory limit must be >= 0 bytes");
   if (!(o.max_growth >= 0) || !std::isfinite(o.max_growth)) throw Error("the growth limit must be a number >= 0");
+  if (o.threads < 0 || o.threads > 1024) throw Error("the number of threads must be between 0 (all cores) and 1024");
   if (!(o.protect_fraction >= 0) || !std::isfinite(o.protect_fraction))
     throw Error("the geometry protection's fraction of the diagonal must be a number >= 0");
 }
@@ -211,6 +214,13 @@ std::unique_ptr<ControlSpace> make_control(const SurfaceMesh& t0, MetricField me
 AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& cb) {
   check_options(options);
   const auto t_start = Clock::now();
+  // The setup loops use as many threads as the remeshing (restored on return).
+  const int threads = options.threads > 0 ? options.threads : available_threads();
+  struct ThreadLimit {
+    int saved = thread_limit().exchange(0);
+    explicit ThreadLimit(int n) { thread_limit() = n; }
+    ~ThreadLimit() { thread_limit() = saved; }
+  } limit_scope(threads);
   AdaptResult result;
   StepTimer timer(cb);
 
@@ -268,23 +278,23 @@ AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& 
 
     RemeshOptions remesh_options = remesh_options_of(options);
     set_growth_limits(remesh_options, options.max_growth, report.predicted_vertices, t0.n_vertices());
-    auto remesher = std::make_unique<Remesher>(*adapted, remesh_options);
-    report.initial = remesher->measure();
+    report.initial = Remesher(*adapted, remesh_options).measure();
     report.inverted_before = adapted->count_inverted();
     if (cb.cycle_started) cb.cycle_started(report);
     const auto t_run = Clock::now();
-    report.passes = remesher->run([&](const PassReport& r) {
+    ParallelOptions parallel;
+    parallel.threads = threads;
+    report.passes = run_in_regions(*adapted, remesh_options, parallel, [&](const PassReport& r) {
       if (cb.pass) cb.pass(r);
     });
     if (!report.passes.empty() && report.passes.back().over_limit)
       throw AdaptationStopped(over_limit_message(report.passes, remesh_options, report.predicted_vertices,
                                                  t0.n_vertices(), options.max_growth));
     report.remesh_seconds = seconds_since(t_run);
-    report.final = remesher->measure();
+    report.final = Remesher(*adapted, remesh_options).measure();
     report.inverted_after = adapted->count_inverted();
 
     SurfaceMesh t1 = std::move(adapted->mesh());
-    remesher.reset();
     adapted.reset();
     control.reset();
     result.cycles.push_back(std::move(report));

@@ -75,6 +75,10 @@ struct AdaptOptions {
   // output's distance bound too (Mmg's default -hausd, relative to the
   // model). An isotropic size is met as asked. 0: off (`--hausd 0`).
   double protect_fraction = 1e-3;
+  // Threads for the remeshing loop (remesh/parallel.h: regions remeshed at
+  // once; the output depends on the count, not on the threads' timing) and
+  // for the setup loops (thread_limit). 0: one per hardware thread.
+  int threads = 0;
 };
 
 // True if a metric of `recipe`'s source gets the geometry protection

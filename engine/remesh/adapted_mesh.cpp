@@ -16,11 +16,6 @@ AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, Control
   auto& props = mesh_.vertex_properties();
   for (const char* n : {"remesh:metric", "remesh:normal", "remesh:on_surface", "remesh:hint_g", "remesh:hint_0"})
     props.remove(n);
-  metric_ = mesh_.add_vertex_property<SymTensor3>("remesh:metric", SymTensor3::identity());
-  normal_ = mesh_.add_vertex_property<std::array<float, 3>>("remesh:normal");
-  on_surface_ = mesh_.add_vertex_property<std::uint8_t>("remesh:on_surface", 1);
-  hint_g_ = mesh_.add_vertex_property<Hint>("remesh:hint_g");
-  hint_0_ = mesh_.add_vertex_property<Hint>("remesh:hint_0");
   // Fields of the initial mesh that are not solution fields of T_0 (its
   // metric: T_1 keeps its own in remesh:metric) would follow every new
   // vertex for nothing (48 bytes each).
@@ -31,11 +26,7 @@ AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, Control
       stale.push_back(f.name);
   }
   for (const std::string& n : stale) mesh_.remove_field(n);
-  for (const FieldInfo& f : control_.field_infos()) {
-    Property<FieldValue> p = mesh_.get_field(f.name);
-    if (!p) p = mesh_.add_field(f.name, f.kind, f.ncomp);
-    solution_.push_back(p);
-  }
+  bind_properties();
   mark_rough_triangles();
   measure_sagitta();
 
@@ -65,6 +56,31 @@ AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, Control
           queue.push_back(w);
         }
     }
+  }
+}
+
+AdaptedMesh::AdaptedMesh(SurfaceMesh part, const AdaptedMesh& whole, GeometrySurface& geometry, ControlSpace& control)
+    : mesh_(std::move(part)),
+      geometry_(geometry),
+      control_(control),
+      length_(whole.length_),
+      rough_(whole.rough_),
+      bound_(whole.bound_),
+      sagitta_(whole.sagitta_) {
+  bind_properties();
+}
+
+void AdaptedMesh::bind_properties() {
+  metric_ = mesh_.vertex_property<SymTensor3>("remesh:metric", SymTensor3::identity());
+  normal_ = mesh_.vertex_property<std::array<float, 3>>("remesh:normal");
+  on_surface_ = mesh_.vertex_property<std::uint8_t>("remesh:on_surface", 1);
+  hint_g_ = mesh_.vertex_property<Hint>("remesh:hint_g");
+  hint_0_ = mesh_.vertex_property<Hint>("remesh:hint_0");
+  solution_.clear();
+  for (const FieldInfo& f : control_.field_infos()) {
+    Property<FieldValue> p = mesh_.get_field(f.name);
+    if (!p) p = mesh_.add_field(f.name, f.kind, f.ncomp);
+    solution_.push_back(p);
   }
 }
 
@@ -127,8 +143,8 @@ AdaptedMesh::InputDistance AdaptedMesh::distance_to_input(const Vec3& x, std::in
   InputDistance out;
   out.distance = norm(x - (pr.location.is_valid() ? pr.location.point : pr.point));
   const Triangle t = pr.location.triangle;
-  if (bound_.enabled && t.is_valid() && static_cast<std::size_t>(t.idx) < sagitta_.size())
-    out.natural = bound_.natural_factor * sagitta_[static_cast<std::size_t>(t.idx)];
+  if (bound_.enabled && t.is_valid() && static_cast<std::size_t>(t.idx) < sagitta_->size())
+    out.natural = bound_.natural_factor * (*sagitta_)[static_cast<std::size_t>(t.idx)];
   return out;
 }
 
@@ -136,7 +152,7 @@ double AdaptedMesh::input_tolerance(Triangle t, const SymTensor3& M) const {
   const double tr = trace(M);
   const double h = tr > 0 ? std::sqrt(3.0 / tr) : INFINITY;
   const double natural =
-      t.is_valid() && static_cast<std::size_t>(t.idx) < sagitta_.size() ? sagitta_[static_cast<std::size_t>(t.idx)] : 0.0;
+      t.is_valid() && static_cast<std::size_t>(t.idx) < sagitta_->size() ? (*sagitta_)[static_cast<std::size_t>(t.idx)] : 0.0;
   double tol = std::max(bound_.size_fraction * h, bound_.natural_factor * natural);
   if (bound_.hausd > 0) tol = std::min(tol, bound_.hausd_fraction * bound_.hausd);
   return tol;
@@ -163,7 +179,7 @@ void AdaptedMesh::pull_towards_input(Placement& p, const Location& on_geometry) 
 // when both ends are corners.
 void AdaptedMesh::measure_sagitta() {
   const SurfaceMesh& g = geometry_.mesh();
-  sagitta_.assign(static_cast<std::size_t>(g.triangle_capacity()), 0.0f);
+  auto sagitta = std::make_shared<std::vector<float>>(static_cast<std::size_t>(g.triangle_capacity()), 0.0f);
   // The curve's curvature at v, or -1 where v has none (corner, required, end).
   auto curvature = [&](Vertex v) {
     if (g.vertex_tags(v) & (kCorner | kRequired)) return -1.0;
@@ -194,8 +210,9 @@ void AdaptedMesh::measure_sagitta() {
       }
       worst = std::max(worst, len * theta / 8.0);
     }
-    sagitta_[static_cast<std::size_t>(t.idx)] = static_cast<float>(4.0 / 3.0 * worst);
+    (*sagitta)[static_cast<std::size_t>(t.idx)] = static_cast<float>(4.0 / 3.0 * worst);
   }
+  sagitta_ = std::move(sagitta);
 }
 
 void AdaptedMesh::refresh_values() {
@@ -259,13 +276,13 @@ int AdaptedMesh::count_inverted() {
 }
 
 bool AdaptedMesh::near_feature(const Hint& h) const {
-  if (!h.is_valid() || static_cast<std::size_t>(h.triangle.idx) >= rough_.size()) return true;
-  return rough_[static_cast<std::size_t>(h.triangle.idx)] != 0;
+  if (!h.is_valid() || static_cast<std::size_t>(h.triangle.idx) >= rough_->size()) return true;
+  return (*rough_)[static_cast<std::size_t>(h.triangle.idx)] != 0;
 }
 
 void AdaptedMesh::mark_rough_triangles() {
   const SurfaceMesh& g = geometry_.mesh();
-  rough_.assign(static_cast<std::size_t>(g.triangle_capacity()), 0);
+  auto rough = std::make_shared<std::vector<std::uint8_t>>(static_cast<std::size_t>(g.triangle_capacity()), 0);
   constexpr double kFoldCosine = 0.5;  // 60 degrees
   std::vector<Vec3> unit(static_cast<std::size_t>(g.triangle_capacity()));
   for (Triangle t : g.triangles()) unit[static_cast<std::size_t>(t.idx)] = normalized(g.triangle_normal(t));
@@ -284,13 +301,14 @@ void AdaptedMesh::mark_rough_triangles() {
     for (Corner a : fan) {
       const auto ta = static_cast<std::size_t>(SurfaceMesh::triangle(a).idx);
       if (rough_vertex) {
-        rough_[ta] = 1;
+        (*rough)[ta] = 1;
         continue;
       }
       for (Corner b : fan)
-        if (dot(unit[ta], unit[static_cast<std::size_t>(SurfaceMesh::triangle(b).idx)]) < kFoldCosine) rough_[ta] = 1;
+        if (dot(unit[ta], unit[static_cast<std::size_t>(SurfaceMesh::triangle(b).idx)]) < kFoldCosine) (*rough)[ta] = 1;
     }
   }
+  rough_ = std::move(rough);
 }
 
 bool AdaptedMesh::is_inverted(Triangle t) {
@@ -303,6 +321,18 @@ bool AdaptedMesh::is_inverted(Triangle t) {
     free[k] = kind(v) == VertexKind::Free;
     hints[k] = hint_g_[v];
   }
+  // Every corner free, on the surface away from features, its surface
+  // normal (stored when it was placed) within 60 degrees of the triangle's:
+  // the normal 1/10 of the way to the centroid, where the surface turns
+  // slowly, faces the same way (no projection needed).
+  const Vec3 nt = cross(p[1] - p[0], p[2] - p[0]);
+  const double len = norm(nt);
+  bool clear = len > 0;
+  for (int k = 0; k < 3 && clear; ++k) {
+    const Vertex v = mesh_.vertex(t, k);
+    clear = free[k] && on_surface_[v] != 0 && !near_feature(hints[k]) && dot(nt, surface_normal(v)) > 0.5 * len;
+  }
+  if (clear) return false;
   return !faces_surface(p, free, hints);
 }
 

@@ -10,6 +10,7 @@
 #pragma once
 #include <array>
 #include <initializer_list>
+#include <memory>
 #include <vector>
 
 #include "remesh/reference.h"
@@ -76,6 +77,13 @@ class AdaptedMesh {
   AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, ControlSpace& control,
               LengthFormula length = LengthFormula::LinearMetric, bool project_initial = false,
               const InputBound& bound = {});
+
+  // A region of `whole` cut out for another thread (remesh/partition.h):
+  // `part` carries the remesh:* vertex properties and the fields of the
+  // vertices it was cut from, so nothing is located again; `geometry` and
+  // `control` are that thread's copies (copy_for_thread) of whole's. The
+  // per-triangle data of T_G is shared with `whole`, which must outlive it.
+  AdaptedMesh(SurfaceMesh part, const AdaptedMesh& whole, GeometrySurface& geometry, ControlSpace& control);
 
   SurfaceMesh& mesh() { return mesh_; }
   const SurfaceMesh& mesh() const { return mesh_; }
@@ -184,11 +192,14 @@ class AdaptedMesh {
   Property<std::uint8_t> on_surface_;  // 0 off the surface, 1 on it, 2 pulled towards T_G
   Property<Hint> hint_g_, hint_0_;
   std::vector<Property<FieldValue>> solution_;
-  std::vector<std::uint8_t> rough_;  // per triangle slot of T_G: near_feature()
+  // Per triangle slot of T_G (shared with the regions cut for threads):
+  std::shared_ptr<const std::vector<std::uint8_t>> rough_;  // near_feature()
   void mark_rough_triangles();
   InputBound bound_;
-  std::vector<float> sagitta_;  // per triangle slot of T_G: the natural deviation of InputBound
+  std::shared_ptr<const std::vector<float>> sagitta_;  // the natural deviation of InputBound
   void measure_sagitta();
+  // Handles of the remesh:* properties and of the solution fields of mesh_.
+  void bind_properties();
   void pull_towards_input(Placement& p, const Location& on_geometry) const;
 };
 

@@ -251,6 +251,10 @@ Rejection check_split_at(AdaptedMesh& m, Corner c, const Vec3& x, const Vec3& su
 SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
   const SurfaceMesh& mesh = m.mesh();
   SplitPlan plan;
+  if (mesh.has_tag(c, kRequired)) {
+    plan.why = Rejection::Fixed;
+    return plan;
+  }
   const Vertex b = mesh.edge_from(c), d = mesh.edge_to(c);
   plan.kind = is_feature_edge(mesh, c) ? VertexKind::Curve : VertexKind::Free;
   const Vec3 mid = split_point(m, b, d, o);
@@ -308,6 +312,10 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
 SplitPlan can_split_onto_input(AdaptedMesh& m, Corner c, double max_turn_deg, double bound) {
   const SurfaceMesh& mesh = m.mesh();
   SplitPlan plan;
+  if (mesh.has_tag(c, kRequired)) {
+    plan.why = Rejection::Fixed;
+    return plan;
+  }
   const Vertex b = mesh.edge_from(c), d = mesh.edge_to(c);
   plan.kind = is_feature_edge(mesh, c) ? VertexKind::Curve : VertexKind::Free;
   const Vec3 mid = 0.5 * (mesh.position(b) + mesh.position(d));
@@ -392,11 +400,23 @@ Rejection check_curve_collapse(AdaptedMesh& m, Vertex r, Vertex k, const Placeme
 }
 
 // Checks removing r into k, k taking the placement p. `c` names the edge.
+// True if removing r into k joins k to another vertex of a region's border
+// (kFrozen) that it is not joined to yet: that edge may exist outside the
+// region.
+bool joins_frozen(const SurfaceMesh& mesh, Vertex r, Vertex k) {
+  if (!mesh.has_tag(k, kFrozen)) return false;
+  for (Vertex y : mesh.ring_vertices(r))
+    if (y != k && mesh.has_tag(y, kFrozen) && !mesh.find_edge(k, y).is_valid() && !mesh.find_edge(y, k).is_valid())
+      return true;
+  return false;
+}
+
 Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Placement& p, bool moves,
                          VertexKind kind_r, VertexKind kind_k, const OperatorOptions& o,
                          bool topology_checked = false) {
   const SurfaceMesh& mesh = m.mesh();
   if (!topology_checked && !anisurf::can_collapse(mesh, c)) return Rejection::Topology;
+  if (joins_frozen(mesh, r, k)) return Rejection::Topology;
   if (kind_r == VertexKind::Curve || (moves && kind_k == VertexKind::Curve)) {
     const Rejection why = check_curve_collapse(m, r, k, p, moves, o);
     if (why != Rejection::None) return why;
@@ -459,7 +479,7 @@ CollapsePlan can_collapse(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
   CollapsePlan out;
   out.edge = c;
   out.why = Rejection::Fixed;
-  if (kp == VertexKind::Fixed && kq == VertexKind::Fixed) return out;
+  if ((kp == VertexKind::Fixed && kq == VertexKind::Fixed) || mesh.has_tag(c, kRequired)) return out;
 
   // May r be removed into the other end?
   auto removable = [&](VertexKind kr) {
@@ -560,9 +580,15 @@ CollapsePlan can_remove_vertex(AdaptedMesh& m, Vertex v, const OperatorOptions& 
 Vertex collapse(AdaptedMesh& m, const CollapsePlan& plan) {
   SurfaceMesh& mesh = m.mesh();
   // The topological collapse removes edge_from(edge); the surviving slot takes
-  // the kept vertex's tags, reference and placement.
+  // the kept vertex's tags, reference, properties and placement.
   const std::uint8_t tags = mesh.vertex_tags(plan.kept);
   const int ref = mesh.vertex_ref(plan.kept);
+  const Vertex survivor = mesh.edge_to(plan.edge);
+  if (survivor != plan.kept) {
+    PropertyContainer& props = mesh.vertex_properties();
+    PropertyContainer::copy_entry(props.pairs_with(props), static_cast<std::size_t>(plan.kept.idx),
+                                  static_cast<std::size_t>(survivor.idx));
+  }
   const Vertex v = anisurf::collapse(mesh, plan.edge);
   mesh.set_vertex_tags(v, tags);
   mesh.set_vertex_ref(v, ref);
@@ -579,6 +605,10 @@ SwapPlan can_swap(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     plan.why = Rejection::Feature;
     return plan;
   }
+  if (mesh.has_tag(c, kRequired)) {
+    plan.why = Rejection::Fixed;
+    return plan;
+  }
   // can_flip (mesh/operators.h) without its one-ring vector: the opposite
   // triangle differs here, and the new diagonal a-e is not an edge already
   // (a walk around a: checked once the cheap tests below pass).
@@ -588,6 +618,10 @@ SwapPlan can_swap(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     return plan;
   }
   const Vertex a = mesh.vertex(c), b = mesh.edge_from(c), d = mesh.edge_to(c), e = mesh.vertex(oc);
+  if (mesh.has_tag(a, kFrozen) && mesh.has_tag(e, kFrozen)) {  // the diagonal may exist outside the region
+    plan.why = Rejection::Topology;
+    return plan;
+  }
   const Vec3 &pa = mesh.position(a), &pb = mesh.position(b), &pd = mesh.position(d), &pe = mesh.position(e);
   // The quality first: most swaps tried bring no gain, and this test reads
   // the positions and metrics only.

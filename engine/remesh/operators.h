@@ -15,8 +15,8 @@ namespace anisurf::remesh {
 // Why an operator was refused (the filters, in the order they are tried).
 enum class Rejection : int {
   None = 0,
-  Topology,     // mesh/operators.h refused (link condition, boundary, existing diagonal ...)
-  Fixed,        // a fixed (corner, required) vertex would be removed or moved
+  Topology,     // mesh/operators.h refused (link condition, boundary, existing diagonal ...), or an edge between two region borders (kFrozen)
+  Fixed,        // a fixed (corner, required) vertex would be removed or moved, or a required edge changed
   Feature,      // a feature edge would be swapped, or a curve vertex left its curve
   Tangent,      // a curve would turn or sag too much (collapse or move of a curve vertex)
   Inversion,    // a triangle would be inverted or degenerate

@@ -28,13 +28,13 @@ Projection PolyhedralSurface::project(const Vec3& x, std::span<const Hint> hints
 }
 
 BezierGeometry::BezierGeometry(const SurfaceMesh& mesh, Mode mode)
-    : surface_(mesh, compute_frames(mesh)), locator_(mesh), mode_(mode) {}
+    : surface_(std::make_shared<const BezierSurface>(mesh, compute_frames(mesh))), locator_(mesh), mode_(mode) {}
 
 Projection BezierGeometry::project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) {
   // Closest point of the G1 surface: Gauss-Newton on the parameters from the
   // polyhedral projection (locate/surface_projection.h).
   const SurfaceEvaluator eval = [this](Triangle t, const std::array<double, 3>& b) {
-    const SurfacePoint s = surface_.evaluate(t, b);
+    const SurfacePoint s = surface_->evaluate(t, b);
     return ParametricPoint{s.position, s.d1, s.d2};
   };
   Projection p;
@@ -44,7 +44,7 @@ Projection BezierGeometry::project(const Vec3& x, std::span<const Hint> hints, C
       p.point = x;
       return p;
     }
-    const SurfacePoint s = surface_.evaluate(p.location.triangle, p.location.bary);
+    const SurfacePoint s = surface_->evaluate(p.location.triangle, p.location.bary);
     p.point = p.location.constraint == Constraint::Fixed ? p.location.point : s.position;
     p.normal = s.normal;
     return p;
@@ -56,16 +56,17 @@ Projection BezierGeometry::project(const Vec3& x, std::span<const Hint> hints, C
     return p;
   }
   p.point = sp.point;
-  p.normal = surface_.evaluate(p.location.triangle, p.location.bary).normal;
+  p.normal = surface_->evaluate(p.location.triangle, p.location.bary).normal;
   return p;
 }
 
 ControlSpace::ControlSpace(const SurfaceMesh& mesh, MetricField metric, bool same_as_geometry,
                            MetricInterpolation interpolation, const std::string& metric_field_name)
-    : mesh_(mesh), interpolation_(interpolation), target_(std::move(metric)) {
-  assert(static_cast<int>(target_.size()) >= mesh.vertex_capacity());
+    : mesh_(mesh), interpolation_(interpolation) {
+  assert(static_cast<int>(metric.size()) >= mesh.vertex_capacity());
   if (interpolation_ != MetricInterpolation::Linear)
-    for (SymTensor3& M : target_) M = to_interpolation_space(M, interpolation_);
+    for (SymTensor3& M : metric) M = to_interpolation_space(M, interpolation_);
+  target_ = std::make_shared<const MetricField>(std::move(metric));
   if (!same_as_geometry) locator_ = std::make_unique<Locator>(mesh);
   for (const FieldInfo& f : mesh.fields()) {
     if (f.name == metric_field_name) continue;
@@ -79,9 +80,9 @@ void ControlSpace::set_relaxation(double t) {
     MetricField().swap(relaxed_);
     return;
   }
-  if (relaxed_.empty()) relaxed_.assign(target_.size(), SymTensor3::identity());
+  if (relaxed_.empty()) relaxed_.assign(target_->size(), SymTensor3::identity());
   if (implied_.empty()) {
-    implied_.assign(target_.size(), SymTensor3::identity());
+    implied_.assign(target_->size(), SymTensor3::identity());
     for (Vertex v : mesh_.vertices()) {
       if (mesh_.is_isolated(v)) continue;
       double sum = 0;
@@ -96,7 +97,7 @@ void ControlSpace::set_relaxation(double t) {
   for (Vertex v : mesh_.vertices()) {
     if (mesh_.is_isolated(v)) continue;
     const int i = v.idx;
-    const SymTensor3 target = from_interpolation_space(target_[i], interpolation_);
+    const SymTensor3 target = from_interpolation_space((*target_)[i], interpolation_);
     relaxed_[i] = to_interpolation_space(tensor_exp((1 - t) * tensor_log(implied_[i]) + t * tensor_log(target)),
                                          interpolation_);
   }
@@ -114,10 +115,24 @@ MetricField from_space(const MetricField& X, MetricInterpolation how) {
 
 MetricField ControlSpace::metric() const { return from_space(in_use(), interpolation_); }
 
-MetricField ControlSpace::target_metric() const { return from_space(target_, interpolation_); }
+MetricField ControlSpace::target_metric() const { return from_space(*target_, interpolation_); }
 
 double ControlSpace::target_complexity() const {
-  return metric_complexity(mesh_, [this](Vertex v) { return from_interpolation_space(target_[v.idx], interpolation_); });
+  return metric_complexity(mesh_, [this](Vertex v) { return from_interpolation_space((*target_)[v.idx], interpolation_); });
+}
+
+ControlSpace::ControlSpace(const ControlSpace& o)
+    : mesh_(o.mesh_),
+      interpolation_(o.interpolation_),
+      target_(o.target_),
+      relaxed_(o.relaxed_),
+      implied_(o.implied_),
+      locator_(o.locator_ ? std::make_unique<Locator>(*o.locator_) : nullptr),
+      infos_(o.infos_),
+      fields_(o.fields_) {}
+
+std::unique_ptr<ControlSpace> ControlSpace::copy_for_thread() const {
+  return std::unique_ptr<ControlSpace>(new ControlSpace(*this));
 }
 
 Location ControlSpace::locate(const Vec3& x, Hint hint, const Location& on_geometry) {

@@ -45,6 +45,10 @@ class GeometrySurface {
   // it (Locator::clearance): small where another sheet of the surface comes
   // close (a thin part, a defective input).
   virtual double clearance(Vertex v) const = 0;
+  // A surface for another thread: it shares this one's immutable data
+  // (patches, search trees) and has its own search marks. Pre: this one
+  // outlives the copy.
+  virtual std::unique_ptr<GeometrySurface> copy_for_thread() const = 0;
 };
 
 // T_G as it is: projection onto the triangles (locate/locator.h).
@@ -56,6 +60,9 @@ class PolyhedralSurface final : public GeometrySurface {
   const SurfaceMesh& mesh() const override { return locator_.mesh(); }
   std::string name() const override { return "polyhedral"; }
   double clearance(Vertex v) const override { return locator_.clearance(v); }
+  std::unique_ptr<GeometrySurface> copy_for_thread() const override {
+    return std::make_unique<PolyhedralSurface>(*this);
+  }
 
  private:
   Locator locator_;
@@ -78,11 +85,16 @@ class BezierGeometry final : public GeometrySurface {
   const SurfaceMesh& mesh() const override { return locator_.mesh(); }
   std::string name() const override { return "g1-bezier"; }
   double clearance(Vertex v) const override { return locator_.clearance(v); }
+  std::unique_ptr<GeometrySurface> copy_for_thread() const override {
+    return std::unique_ptr<GeometrySurface>(new BezierGeometry(*this));
+  }
 
  private:
+  BezierGeometry(const BezierGeometry&) = default;  // shares the patches, copies the locator (own marks)
   // The surface first: the frames it is built from are freed before the
-  // locator is built (the two do not add up at the peak memory).
-  BezierSurface surface_;
+  // locator is built (the two do not add up at the peak memory). Shared
+  // with the copies for other threads.
+  std::shared_ptr<const BezierSurface> surface_;
   Locator locator_;
   Mode mode_;
 };
@@ -126,15 +138,20 @@ class ControlSpace {
   void set_relaxation(double t);
   const std::vector<FieldInfo>& field_infos() const { return infos_; }
   bool same_as_geometry() const { return !locator_; }
+  // A control space for another thread: it shares the target metric and
+  // T_0, and has its own locator marks and relaxed metric. Pre: this one
+  // outlives the copy.
+  std::unique_ptr<ControlSpace> copy_for_thread() const;
 
  private:
+  ControlSpace(const ControlSpace& other);
   const SurfaceMesh& mesh_;
   // T_0's metrics are stored once, in the space where `interpolation_` is
   // linear (metric/length.h: M, M^-1, M^-1/2 or log M): a lookup is then one
   // weighted sum and one conversion back.
-  const MetricField& in_use() const { return relaxed_.empty() ? target_ : relaxed_; }
+  const MetricField& in_use() const { return relaxed_.empty() ? *target_ : relaxed_; }
   MetricInterpolation interpolation_;
-  MetricField target_;
+  std::shared_ptr<const MetricField> target_;  // shared with the copies for other threads
   MetricField relaxed_;  // the metric in use while relaxed (empty otherwise: the target, not copied)
   MetricField implied_;  // M_0 of set_relaxation (a metric), computed on first use
   std::unique_ptr<Locator> locator_;  // null when T_0 is T_G

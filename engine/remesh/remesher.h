@@ -170,6 +170,9 @@ struct PassReport {
   // touched), each once, in the order of their first change; empty when
   // RemeshOptions::record_touched is off.
   std::vector<int> touched;
+  // run_in_regions (remesh/parallel.h): the region the pass ran on, the
+  // band around the regions' borders being the last (-1: the whole mesh).
+  int region = -1;
   int changes() const { return splits + collapses + swaps + moves + removed_vertices; }
 };
 

@@ -1,0 +1,170 @@
+#include "remesh/parallel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+
+#include "remesh/partition.h"
+
+namespace anisurf::remesh {
+
+namespace {
+
+// A growth limit of the whole (RemeshOptions::max_vertices ...) for a region
+// with `share` of the predicted work (0: no limit).
+int region_limit(int whole_limit, double share) {
+  if (whole_limit <= 0) return 0;
+  const double limit = std::ceil(static_cast<double>(whole_limit) * std::min(1.0, 1.5 * share));
+  return static_cast<int>(std::max(limit, 1000.0));
+}
+
+// The passes of a region, tagged with it; the touched slots are the region's.
+void tag_region(std::vector<PassReport>& passes, int region) {
+  for (PassReport& r : passes) {
+    r.region = region;
+    r.touched.clear();
+  }
+}
+
+// Runs the schedule on region `r` of `whole` (its mesh moved in and out).
+std::vector<PassReport> remesh_region(AdaptedMesh& whole, Region& r, GeometrySurface& geometry,
+                                      ControlSpace& control, const RemeshOptions& options, int index,
+                                      const std::function<void(const PassReport&)>& progress) {
+  AdaptedMesh part(std::move(r.mesh), whole, geometry, control);
+  Remesher remesher(part, options);
+  std::vector<PassReport> passes = remesher.run([&](const PassReport& p) {
+    if (!progress) return;
+    PassReport q = p;
+    q.region = index;
+    q.touched.clear();
+    progress(q);
+  });
+  tag_region(passes, index);
+  r.mesh = std::move(part.mesh());
+  return passes;
+}
+
+bool over_limit(const std::vector<PassReport>& passes) { return !passes.empty() && passes.back().over_limit; }
+
+}  // namespace
+
+int region_count(const AdaptedMesh& m, const ParallelOptions& p) {
+  if (p.threads <= 1) return 1;
+  double work = 0;
+  for (Triangle t : m.mesh().triangles()) work += triangle_work(m, t);
+  const double per_region = std::max(p.min_region_work, 1.0);
+  return std::clamp(static_cast<int>(work / per_region), 1, p.threads);
+}
+
+std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& options, const ParallelOptions& p,
+                                       const std::function<void(const PassReport&)>& progress) {
+  const int n = region_count(m, p);
+  if (n <= 1) {
+    Remesher remesher(m, options);
+    return remesher.run(progress);
+  }
+  auto T0 = std::chrono::steady_clock::now();
+  auto lap = [&](const char* what) { if (std::getenv("ANISURF_DEBUG_REGIONS")) std::fprintf(stderr, "%s %.3f\n", what, std::chrono::duration<double>(std::chrono::steady_clock::now() - T0).count()); };
+  std::vector<int> part = partition_triangles(m, n);
+  for (int k = 0; k < n; ++k) drop_pinched_fans(m.mesh(), part, k);
+  // The triangles left out of every region go to the band (their vertices
+  // seed it).
+  std::vector<Vertex> seeds;
+  for (Triangle t : m.mesh().triangles())
+    if (part[static_cast<std::size_t>(t.idx)] < 0)
+      for (int k = 0; k < 3; ++k) seeds.push_back(m.mesh().vertex(t, k));
+  lap("partition");
+  std::vector<double> work(static_cast<std::size_t>(n), 0.0);
+  double total = 0;
+  for (Triangle t : m.mesh().triangles()) {
+    const int k = part[static_cast<std::size_t>(t.idx)];
+    const double w = triangle_work(m, t);
+    if (k >= 0) work[static_cast<std::size_t>(k)] += w;
+    total += w;
+  }
+
+  // Cut, remeshed and handed back by one thread per region.
+  std::vector<Region> regions(static_cast<std::size_t>(n));
+  std::vector<std::vector<PassReport>> passes(static_cast<std::size_t>(n));
+  std::vector<std::exception_ptr> errors(static_cast<std::size_t>(n));
+  std::mutex progress_mutex;
+  const auto serial_progress = [&](const PassReport& r) {
+    if (!progress) return;
+    const std::lock_guard<std::mutex> lock(progress_mutex);
+    progress(r);
+  };
+  auto work_on = [&](int k) {
+    const auto i = static_cast<std::size_t>(k);
+    try {
+      regions[i] = cut_region(m.mesh(), part, k);
+      if (k == 0) lap("cut");
+      const std::unique_ptr<GeometrySurface> geometry = m.geometry().copy_for_thread();
+      const std::unique_ptr<ControlSpace> control = m.control().copy_for_thread();
+      RemeshOptions o = options;
+      const double share = total > 0 ? work[i] / total : 1.0 / n;
+      o.max_vertices = region_limit(options.max_vertices, share);
+      o.max_round_vertices = region_limit(options.max_round_vertices, share);
+      passes[i] = remesh_region(m, regions[i], *geometry, *control, o, k, serial_progress);
+    } catch (...) {
+      errors[i] = std::current_exception();
+    }
+  };
+  {
+    std::vector<std::thread> threads;
+    for (int k = 1; k < n; ++k) threads.emplace_back(work_on, k);
+    work_on(0);
+    for (std::thread& t : threads) t.join();
+  }
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+  lap("regions");
+
+  std::vector<PassReport> out;
+  for (int k = 0; k < n; ++k)
+    if (over_limit(passes[static_cast<std::size_t>(k)])) {  // the mesh stays as it was
+      for (int j = 0; j < n; ++j)
+        if (j != k) out.insert(out.end(), passes[static_cast<std::size_t>(j)].begin(), passes[static_cast<std::size_t>(j)].end());
+      out.insert(out.end(), passes[static_cast<std::size_t>(k)].begin(), passes[static_cast<std::size_t>(k)].end());
+      return out;
+    }
+
+  // Pasted back in order; the band around the borders is remeshed again.
+  SurfaceMesh& mesh = m.mesh();
+  int vertices = mesh.vertex_capacity(), triangles = mesh.triangle_capacity();
+  for (const Region& r : regions) {
+    vertices += r.mesh.n_vertices();
+    triangles += r.mesh.n_triangles();
+  }
+  mesh.reserve(vertices, triangles);
+  for (int k = 0; k < n; ++k) {
+    Region& r = regions[static_cast<std::size_t>(k)];
+    seeds.insert(seeds.end(), r.border.begin(), r.border.end());
+    paste_region(mesh, part, k, r.mesh);
+    r = Region{};
+    out.insert(out.end(), passes[static_cast<std::size_t>(k)].begin(), passes[static_cast<std::size_t>(k)].end());
+  }
+  lap("paste");
+  std::vector<int> band = band_around(mesh, seeds, p.band_rings);
+  fill_pinched_fans(mesh, band);
+  Region b = cut_region(mesh, band, 0);
+  RemeshOptions o = options;
+  o.relaxation_stages = 0;  // the band is adapted already but for its middle
+  std::vector<PassReport> band_passes = remesh_region(m, b, m.geometry(), m.control(), o, n, serial_progress);
+  if (over_limit(band_passes)) {
+    out.insert(out.end(), band_passes.begin(), band_passes.end());
+    return out;
+  }
+  lap("band");
+  paste_region(mesh, band, 0, b.mesh);
+  lap("band paste");
+  out.insert(out.end(), band_passes.begin(), band_passes.end());
+  return out;
+}
+
+}  // namespace anisurf::remesh

@@ -1,0 +1,44 @@
+// Section 6's remeshing loop on several threads, by regions (the partition +
+// frozen interface scheme of ParMmg, in one process; remesh/partition.h):
+//  1. T_1 is split into `threads` regions of about equal predicted work;
+//  2. each region is cut out with its border frozen (required) and runs the
+//     whole schedule (Remesher::run) on a thread of its own, with its own
+//     copies of the search structures of T_G and T_0 (copy_for_thread);
+//  3. the regions are pasted back in order, and the band of `band_rings`
+//     rings around their borders, left as it was by step 2, runs the
+//     schedule again (its own border, inside the remeshed regions, frozen).
+// The output depends on the mesh, the options and the thread count only
+// (not on the threads' timing); the quality figures are those of the serial
+// loop, which runs when threads is 1 or the mesh is too small to share.
+#pragma once
+#include <functional>
+#include <vector>
+
+#include "remesh/remesher.h"
+
+namespace anisurf::remesh {
+
+struct ParallelOptions {
+  int threads = 1;  // regions remeshed at once (1: the serial Remesher::run)
+  // Each region needs at least this much predicted work (triangle_work:
+  // about the triangles it holds and will hold): a smaller mesh is remeshed
+  // by fewer regions.
+  double min_region_work = 20000;
+  int band_rings = 4;  // step 3: rings around the borders remeshed again
+};
+
+// The number of regions run_in_regions() uses for `m` (1: serial).
+int region_count(const AdaptedMesh& m, const ParallelOptions& p);
+
+// Remesher::run() over the regions (see the top of this file); returns the
+// passes of every region, in region order, then those of the band (each
+// with PassReport::region set; `touched` left empty: the slots are the
+// regions'). `progress` is called after each pass, from the region's
+// thread, one call at a time. A region that goes over its share of the
+// growth limits (RemeshOptions::max_vertices, max_round_vertices) stops
+// everything: its passes come last, the last one over_limit (the mesh is
+// valid, not adapted).
+std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& options, const ParallelOptions& p,
+                                       const std::function<void(const PassReport&)>& progress = {});
+
+}  // namespace anisurf::remesh

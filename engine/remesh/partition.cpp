@@ -1,0 +1,380 @@
+#include "remesh/partition.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <unordered_map>
+#include <cstdio>
+#include <cstdlib>
+
+namespace anisurf::remesh {
+
+namespace {
+
+using M = SurfaceMesh;
+
+Vec3 centroid(const SurfaceMesh& mesh, Triangle t) {
+  return (mesh.position(mesh.vertex(t, 0)) + mesh.position(mesh.vertex(t, 1)) + mesh.position(mesh.vertex(t, 2))) /
+         3.0;
+}
+
+double axis_value(const Vec3& p, int axis) { return axis == 0 ? p.x : axis == 1 ? p.y : p.z; }
+
+// Splits ids[first, last) into `parts` regions numbered from `first_part`:
+// along the longest side of the centroids' box, at the share of the weight
+// the left regions get.
+void bisect(std::vector<int>& ids, std::size_t first, std::size_t last, int parts, int first_part,
+            const std::vector<Vec3>& centre, const std::vector<double>& weight, std::vector<int>& part) {
+  if (parts <= 1 || last - first <= 1) {
+    for (std::size_t i = first; i < last; ++i) part[static_cast<std::size_t>(ids[i])] = first_part;
+    return;
+  }
+  BBox box;
+  for (std::size_t i = first; i < last; ++i) box.add(centre[static_cast<std::size_t>(ids[i])]);
+  const Vec3 side = box.hi - box.lo;
+  const int axis = side.x >= side.y && side.x >= side.z ? 0 : side.y >= side.z ? 1 : 2;
+  std::sort(ids.begin() + static_cast<std::ptrdiff_t>(first), ids.begin() + static_cast<std::ptrdiff_t>(last),
+            [&](int a, int b) {
+              const double va = axis_value(centre[static_cast<std::size_t>(a)], axis);
+              const double vb = axis_value(centre[static_cast<std::size_t>(b)], axis);
+              return va < vb || (va == vb && a < b);
+            });
+  double total = 0;
+  for (std::size_t i = first; i < last; ++i) total += weight[static_cast<std::size_t>(ids[i])];
+  const int left_parts = parts / 2;
+  const double goal = total * left_parts / parts;
+  std::size_t cut = first;
+  double sum = 0;
+  while (cut < last - 1 && sum + 0.5 * weight[static_cast<std::size_t>(ids[cut])] < goal)
+    sum += weight[static_cast<std::size_t>(ids[cut++])];
+  cut = std::max(cut, first + 1);
+  bisect(ids, first, cut, left_parts, first_part, centre, weight, part);
+  bisect(ids, cut, last, parts - left_parts, first_part + left_parts, centre, weight, part);
+}
+
+std::uint64_t edge_key(int a, int b) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+
+}  // namespace
+
+double triangle_work(const AdaptedMesh& m, Triangle t) {
+  const SurfaceMesh& mesh = m.mesh();
+  const Vertex a = mesh.vertex(t, 0), b = mesh.vertex(t, 1), c = mesh.vertex(t, 2);
+  const SymTensor3 Mt = (1.0 / 3.0) * (m.metric(a) + m.metric(b) + m.metric(c));
+  const Vec3 e1 = mesh.position(b) - mesh.position(a), e2 = mesh.position(c) - mesh.position(a);
+  const double g11 = quad(Mt, e1), g22 = quad(Mt, e2), g12 = bilinear(Mt, e1, e2);
+  const double area = 0.5 * std::sqrt(std::max(0.0, g11 * g22 - g12 * g12));
+  const double unit_area = std::sqrt(3.0) / 4.0;
+  const double w = 1.0 + area / unit_area;
+  return std::isfinite(w) ? w : 1.0;
+}
+
+std::vector<int> partition_triangles(const AdaptedMesh& m, int parts) {
+  const SurfaceMesh& mesh = m.mesh();
+  const auto n = static_cast<std::size_t>(mesh.triangle_capacity());
+  std::vector<int> part(n, -1), ids;
+  std::vector<Vec3> centre(n);
+  std::vector<double> weight(n, 0.0);
+  ids.reserve(static_cast<std::size_t>(mesh.n_triangles()));
+  for (Triangle t : mesh.triangles()) {
+    const auto i = static_cast<std::size_t>(t.idx);
+    centre[i] = centroid(mesh, t);
+    weight[i] = triangle_work(m, t);
+    ids.push_back(t.idx);
+  }
+  bisect(ids, 0, ids.size(), std::max(parts, 1), 0, centre, weight, part);
+  return part;
+}
+
+std::vector<int> band_around(const SurfaceMesh& m, const std::vector<Vertex>& seeds, int rings) {
+  std::vector<int> depth(static_cast<std::size_t>(m.vertex_capacity()), -1);
+  std::vector<Vertex> front;
+  for (Vertex v : seeds)
+    if (depth[static_cast<std::size_t>(v.idx)] < 0) {
+      depth[static_cast<std::size_t>(v.idx)] = 0;
+      front.push_back(v);
+    }
+  for (int d = 1; d < rings; ++d) {
+    std::vector<Vertex> next;
+    for (Vertex v : front)
+      for (Vertex w : m.ring_vertices(v))
+        if (depth[static_cast<std::size_t>(w.idx)] < 0) {
+          depth[static_cast<std::size_t>(w.idx)] = d;
+          next.push_back(w);
+        }
+    front = std::move(next);
+  }
+  std::vector<int> part(static_cast<std::size_t>(m.triangle_capacity()), -1);
+  for (Triangle t : m.triangles())
+    for (int k = 0; k < 3; ++k)
+      if (depth[static_cast<std::size_t>(m.vertex(t, k).idx)] >= 0) part[static_cast<std::size_t>(t.idx)] = 0;
+  return part;
+}
+
+namespace {
+
+// The fans of region `which` around v: maximal runs of its triangles in v's
+// fan (a run across the start of a closed fan is one run).
+std::vector<std::vector<Triangle>> region_fans(const SurfaceMesh& m, const std::vector<int>& part, int which,
+                                               Vertex v) {
+  auto in_region = [&](Triangle t) { return part[static_cast<std::size_t>(t.idx)] == which; };
+  std::vector<std::vector<Triangle>> runs;
+  bool open_run = false;
+  Corner first;
+  for (Corner c : m.fan_corners(v)) {
+    if (!first.is_valid()) first = c;
+    const Triangle t = M::triangle(c);
+    if (!in_region(t)) {
+      open_run = false;
+      continue;
+    }
+    if (!open_run) runs.emplace_back();
+    runs.back().push_back(t);
+    open_run = true;
+  }
+  // A closed fan: the last run goes on into the first.
+  if (runs.size() > 1 && !m.is_boundary(v) && open_run && in_region(M::triangle(first))) {
+    runs.front().insert(runs.front().end(), runs.back().begin(), runs.back().end());
+    runs.pop_back();
+  }
+  return runs;
+}
+
+// The vertices of the triangles of region `which`, once each.
+std::vector<Vertex> region_vertices(const SurfaceMesh& m, const std::vector<int>& part, int which) {
+  std::vector<char> seen(static_cast<std::size_t>(m.vertex_capacity()), 0);
+  std::vector<Vertex> out;
+  for (Triangle t : m.triangles())
+    if (part[static_cast<std::size_t>(t.idx)] == which)
+      for (int k = 0; k < 3; ++k) {
+        const Vertex v = m.vertex(t, k);
+        if (!seen[static_cast<std::size_t>(v.idx)]) {
+          seen[static_cast<std::size_t>(v.idx)] = 1;
+          out.push_back(v);
+        }
+      }
+  return out;
+}
+
+}  // namespace
+
+void drop_pinched_fans(const SurfaceMesh& m, std::vector<int>& part, int which) {
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (Vertex v : region_vertices(m, part, which)) {
+      std::vector<std::vector<Triangle>> fans = region_fans(m, part, which, v);
+      if (fans.size() < 2) continue;
+      std::size_t largest = 0;
+      for (std::size_t i = 1; i < fans.size(); ++i)
+        if (fans[i].size() > fans[largest].size()) largest = i;
+      for (std::size_t i = 0; i < fans.size(); ++i)
+        if (i != largest)
+          for (Triangle t : fans[i]) part[static_cast<std::size_t>(t.idx)] = -1;
+      changed = true;
+    }
+  }
+}
+
+void fill_pinched_fans(const SurfaceMesh& m, std::vector<int>& part) {
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (Vertex v : region_vertices(m, part, 0)) {
+      if (region_fans(m, part, 0, v).size() < 2) continue;
+      for (Corner c : m.fan_corners(v)) part[static_cast<std::size_t>(M::triangle(c).idx)] = 0;
+      changed = true;
+    }
+  }
+}
+
+Region cut_region(const SurfaceMesh& whole, const std::vector<int>& part, int which) {
+  auto in_region = [&](Triangle t) {
+    return t.is_valid() && static_cast<std::size_t>(t.idx) < part.size() && part[static_cast<std::size_t>(t.idx)] == which;
+  };
+  Region out;
+  SurfaceMesh& r = out.mesh;
+  r = whole.empty_like();
+  const auto vpairs = r.vertex_properties().pairs_with(whole.vertex_properties());
+  const auto tpairs = r.triangle_properties().pairs_with(whole.triangle_properties());
+
+  // Triangles, in the whole's order.
+  std::vector<int> local(static_cast<std::size_t>(whole.triangle_capacity()), -1);
+  std::vector<Triangle> origin;
+  for (Triangle t : whole.triangles()) {
+    if (!in_region(t)) continue;
+    const Triangle rt = r.allocate_triangle();
+    local[static_cast<std::size_t>(t.idx)] = rt.idx;
+    origin.push_back(t);
+    r.set_triangle_tags(rt, whole.triangle_tags(t));
+    r.set_triangle_ref(rt, whole.triangle_ref(t));
+    PropertyContainer::copy_entry(tpairs, static_cast<std::size_t>(t.idx), static_cast<std::size_t>(rt.idx));
+  }
+  auto local_corner = [&](Corner wc) {
+    return Corner(3 * local[static_cast<std::size_t>(M::triangle(wc).idx)] + M::local_index(wc));
+  };
+
+  // Vertices: one per fan of region triangles around a whole vertex (the
+  // corners reached by swinging within the region).
+  Property<int> origin_of = r.add_vertex_property<int>(kRegionOriginProperty, -1);
+  std::vector<char> on_border(static_cast<std::size_t>(whole.vertex_capacity()), 0);
+  for (std::size_t i = 0; i < origin.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const Corner wc = M::corner(origin[i], k);
+      const Corner rc = local_corner(wc);
+      if (r.vertex(rc).is_valid()) continue;
+      const Vertex wv = whole.vertex(wc);
+      const Vertex rv = r.add_vertex(whole.position(wv));
+      r.set_vertex_tags(rv, whole.vertex_tags(wv));
+      r.set_vertex_ref(rv, whole.vertex_ref(wv));
+      PropertyContainer::copy_entry(vpairs, static_cast<std::size_t>(wv.idx), static_cast<std::size_t>(rv.idx));
+      r.set_corner_vertex(rc, rv);
+      r.set_vertex_corner(rv, rc);
+      for (int dir = 0; dir < 2; ++dir) {
+        Corner c = wc;
+        while (true) {
+          c = dir == 0 ? whole.swing_ccw(c) : whole.swing_cw(c);
+          if (!c.is_valid() || c == wc || !in_region(M::triangle(c))) break;
+          r.set_corner_vertex(local_corner(c), rv);
+        }
+      }
+    }
+
+  // Links inside the region; the border edges are tagged required, and so
+  // are their ends.
+  for (std::size_t i = 0; i < origin.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const Corner wc = M::corner(origin[i], k);
+      const Corner rc = local_corner(wc);
+      const Corner wo = whole.opposite(wc);
+      std::uint8_t tags = whole.edge_tags(wc);
+      if (wo.is_valid() && in_region(M::triangle(wo))) {
+        r.link(rc, local_corner(wo));
+      } else {
+        r.link(rc, Corner());
+        if (wo.is_valid()) {
+          tags |= kRequired;
+          // The edge's ends: the same local corners in the region's triangle.
+          for (int side = 0; side < 2; ++side) {
+            const Vertex rv = r.vertex(side == 0 ? M::next(rc) : M::prev(rc));
+            const Vertex wv = whole.vertex(side == 0 ? M::next(wc) : M::prev(wc));
+            r.add_vertex_tag(rv, kRequired);
+            r.add_vertex_tag(rv, kFrozen);
+            origin_of[rv] = wv.idx;
+            if (!on_border[static_cast<std::size_t>(wv.idx)]) {
+              on_border[static_cast<std::size_t>(wv.idx)] = 1;
+              out.border.push_back(wv);
+            }
+          }
+        }
+      }
+      r.set_edge_tags(rc, tags);
+      r.set_edge_ref(rc, whole.edge_ref(wc));
+    }
+  for (Vertex v : r.vertices()) r.update_vertex_corner(v);
+  return out;
+}
+
+void paste_region(SurfaceMesh& whole, std::vector<int>& part, int which, const SurfaceMesh& region) {
+  auto in_region = [&](Triangle t) {
+    return t.is_valid() && static_cast<std::size_t>(t.idx) < part.size() && part[static_cast<std::size_t>(t.idx)] == which;
+  };
+  // The corners outside across the border, by the border edge's directed
+  // ends as the region sees them; the region's vertices to delete.
+  std::unordered_map<std::uint64_t, int> outside;
+  std::vector<Triangle> old;
+  std::vector<Vertex> used;
+  std::vector<char> seen(static_cast<std::size_t>(whole.vertex_capacity()), 0);
+  for (Triangle t : whole.triangles()) {
+    if (!in_region(t)) continue;
+    old.push_back(t);
+    for (int k = 0; k < 3; ++k) {
+      const Corner c = M::corner(t, k);
+      const Corner o = whole.opposite(c);
+      if (o.is_valid() && !in_region(M::triangle(o)))
+        outside[edge_key(whole.edge_from(c).idx, whole.edge_to(c).idx)] = o.idx;
+      const Vertex v = whole.vertex(c);
+      if (!seen[static_cast<std::size_t>(v.idx)]) {
+        seen[static_cast<std::size_t>(v.idx)] = 1;
+        used.push_back(v);
+      }
+    }
+  }
+  // The slots are freed without unlinking the corners outside: each is
+  // linked again below, to the region's triangle on the same border edge,
+  // and the fans of the border vertices are set again at the end.
+  for (Triangle t : old) whole.release_triangle(t);
+  std::vector<char> keep(static_cast<std::size_t>(whole.vertex_capacity()), 0);
+  for (const auto& [key, o] : outside)
+    for (Corner c : {M::next(Corner(o)), M::prev(Corner(o))}) keep[static_cast<std::size_t>(whole.vertex(c).idx)] = 1;
+  for (Vertex v : used)
+    if (!keep[static_cast<std::size_t>(v.idx)]) whole.delete_vertex(v);
+
+  // The region's vertices: border ones are the whole's, the others new.
+  const auto vpairs = whole.vertex_properties().pairs_with(region.vertex_properties());
+  const auto tpairs = whole.triangle_properties().pairs_with(region.triangle_properties());
+  const Property<int> origin_of = region.get_vertex_property<int>(kRegionOriginProperty);
+  std::vector<int> to_whole(static_cast<std::size_t>(region.vertex_capacity()), -1);
+  for (Vertex v : region.vertices()) {
+    const int o = origin_of ? origin_of[v] : -1;
+    if (o >= 0) {
+      to_whole[static_cast<std::size_t>(v.idx)] = o;
+      continue;
+    }
+    const Vertex w = whole.add_vertex(region.position(v));
+    whole.set_vertex_tags(w, region.vertex_tags(v));
+    whole.set_vertex_ref(w, region.vertex_ref(v));
+    PropertyContainer::copy_entry(vpairs, static_cast<std::size_t>(v.idx), static_cast<std::size_t>(w.idx));
+    to_whole[static_cast<std::size_t>(v.idx)] = w.idx;
+  }
+
+  std::vector<int> tri(static_cast<std::size_t>(region.triangle_capacity()), -1);
+  for (Triangle t : region.triangles()) {
+    const Triangle w = whole.allocate_triangle();
+    tri[static_cast<std::size_t>(t.idx)] = w.idx;
+    for (int k = 0; k < 3; ++k)
+      whole.set_corner_vertex(M::corner(w, k), Vertex(to_whole[static_cast<std::size_t>(region.vertex(t, k).idx)]));
+    whole.set_triangle_tags(w, region.triangle_tags(t));
+    whole.set_triangle_ref(w, region.triangle_ref(t));
+    PropertyContainer::copy_entry(tpairs, static_cast<std::size_t>(t.idx), static_cast<std::size_t>(w.idx));
+  }
+  auto whole_corner = [&](Corner rc) {
+    return Corner(3 * tri[static_cast<std::size_t>(M::triangle(rc).idx)] + M::local_index(rc));
+  };
+  for (Triangle t : region.triangles())
+    for (int k = 0; k < 3; ++k) {
+      const Corner rc = M::corner(t, k);
+      const Corner wc = whole_corner(rc);
+      const Corner ro = region.opposite(rc);
+      if (ro.is_valid()) {
+        if (ro.idx < rc.idx) continue;  // linked from the other side
+        whole.link(wc, whole_corner(ro));
+        whole.set_edge_tags(wc, region.edge_tags(rc));
+        whole.set_edge_ref(wc, region.edge_ref(rc));
+        continue;
+      }
+      const auto it = outside.find(edge_key(whole.edge_from(wc).idx, whole.edge_to(wc).idx));
+      if (it != outside.end()) {
+        const Corner o(it->second);
+        whole.link(wc, o);
+        whole.set_edge_tags(wc, whole.edge_tags(o));
+        whole.set_edge_ref(wc, whole.edge_ref(o));
+      } else {
+        whole.link(wc, Corner());
+        whole.set_edge_tags(wc, region.edge_tags(rc));
+        whole.set_edge_ref(wc, region.edge_ref(rc));
+      }
+    }
+  for (Triangle t : region.triangles())
+    for (int k = 0; k < 3; ++k) {
+      const Corner wc = whole_corner(M::corner(t, k));
+      whole.set_vertex_corner(whole.vertex(wc), wc);
+    }
+  for (Triangle t : region.triangles())
+    for (int k = 0; k < 3; ++k) whole.update_vertex_corner(whole.vertex(whole_corner(M::corner(t, k))));
+  part.resize(static_cast<std::size_t>(whole.triangle_capacity()), -1);
+  for (int w : tri)
+    if (w >= 0) part[static_cast<std::size_t>(w)] = -1;
+}
+
+}  // namespace anisurf::remesh

@@ -1,0 +1,237 @@
+// Remeshing by regions on several threads (engine/remesh/partition.h,
+// parallel.h): regions cut and pasted back give the same mesh, a run by
+// regions keeps the mesh valid and reaches the serial run's figures, the
+// output depends on the thread count only, and required edges stay.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <memory>
+#include <set>
+
+#include "geometry/features.h"
+#include "io/mesh_io.h"
+#include "mesh/build.h"
+#include "metric/metric_field.h"
+#include "remesh/adapt.h"
+#include "remesh/parallel.h"
+#include "remesh/partition.h"
+#include "test_util.h"
+
+using namespace anisurf;
+using namespace anisurf::remesh;
+
+namespace {
+
+struct Setup {
+  SurfaceMesh input;
+  std::unique_ptr<GeometrySurface> geometry;
+  std::unique_ptr<ControlSpace> control;
+  std::unique_ptr<AdaptedMesh> adapted;
+};
+
+std::unique_ptr<Setup> make_setup(const std::string& path, double size) {
+  auto s = std::make_unique<Setup>();
+  BuildReport report;
+  s->input = load_mesh(path, &report);
+  detect_features(s->input);
+  MetricField metric(static_cast<std::size_t>(s->input.vertex_capacity()), isotropic_metric(size));
+  s->geometry = make_geometry(s->input, SurfaceKind::G1);
+  s->control = std::make_unique<ControlSpace>(s->input, metric, true, MetricInterpolation::LinearSize);
+  s->adapted = std::make_unique<AdaptedMesh>(s->input, *s->geometry, *s->control);
+  return s;
+}
+
+// The invariants, and the sphere still closed with one vertex a position.
+void check_valid(const SurfaceMesh& m, const char* what, bool closed = true) {
+  INFO(what);
+  const ValidationReport v = m.validate();
+  REQUIRE_MESSAGE(v.ok(), v.summary());
+  if (!closed) return;
+  int open = 0;
+  for (Corner c : m.edges()) open += m.is_boundary_edge(c);
+  CHECK(open == 0);
+  std::set<std::array<double, 3>> at;
+  for (Vertex v : m.vertices()) at.insert({m.position(v).x, m.position(v).y, m.position(v).z});
+  CHECK(static_cast<int>(at.size()) == m.n_vertices());
+}
+
+std::multiset<std::array<double, 3>> positions(const SurfaceMesh& m) {
+  std::multiset<std::array<double, 3>> out;
+  for (Vertex v : m.vertices()) out.insert({m.position(v).x, m.position(v).y, m.position(v).z});
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("partition: the regions cut out and pasted back unchanged give the same valid mesh") {
+  auto s = make_setup(test::asset_file("demo.mesh"), 0.2);
+  SurfaceMesh& m = s->adapted->mesh();
+  const int nv = m.n_vertices(), nt = m.n_triangles();
+  const auto before = positions(m);
+  for (int parts : {2, 3, 5}) {
+    std::vector<int> part = partition_triangles(*s->adapted, parts);
+    std::vector<int> sizes(static_cast<std::size_t>(parts), 0);
+    for (Triangle t : m.triangles()) {
+      REQUIRE(part[static_cast<std::size_t>(t.idx)] >= 0);
+      REQUIRE(part[static_cast<std::size_t>(t.idx)] < parts);
+      ++sizes[static_cast<std::size_t>(part[static_cast<std::size_t>(t.idx)])];
+    }
+    // Equal work on a uniform metric: equal triangle counts within a few.
+    CHECK(*std::max_element(sizes.begin(), sizes.end()) - *std::min_element(sizes.begin(), sizes.end()) <= 2);
+    std::vector<Region> regions;
+    for (int k = 0; k < parts; ++k) {
+      regions.push_back(cut_region(m, part, k));
+      check_valid(regions.back().mesh, "a region", false);
+      CHECK_FALSE(regions.back().border.empty());
+      for (Vertex v : regions.back().border) CHECK_FALSE(m.is_deleted(v));
+    }
+    for (int k = 0; k < parts; ++k) {
+      paste_region(m, part, k, regions[static_cast<std::size_t>(k)].mesh);
+      check_valid(m, "after a paste");
+    }
+    CHECK(m.n_vertices() == nv);
+    CHECK(m.n_triangles() == nt);
+    CHECK(positions(m) == before);
+    for (Vertex v : m.vertices()) CHECK_FALSE(m.has_tag(v, kRequired));
+    for (Corner c : m.edges()) CHECK_FALSE(m.has_tag(c, kRequired));
+  }
+}
+
+TEST_CASE("partition: a band around the borders, cut and pasted, keeps the mesh valid") {
+  auto s = make_setup(test::asset_file("demo.mesh"), 0.2);
+  SurfaceMesh& m = s->adapted->mesh();
+  std::vector<int> part = partition_triangles(*s->adapted, 2);
+  const Region r0 = cut_region(m, part, 0);
+  std::vector<int> band = band_around(m, r0.border, 2);
+  int in_band = 0;
+  for (Triangle t : m.triangles()) in_band += band[static_cast<std::size_t>(t.idx)] == 0;
+  CHECK(in_band > 0);
+  CHECK(in_band < m.n_triangles());
+  Region b = cut_region(m, band, 0);
+  paste_region(m, band, 0, b.mesh);
+  check_valid(m, "after the band");
+}
+
+TEST_CASE("remesh by regions: valid, in band, uninverted, like the serial run, the same output for the same count") {
+  auto run = [](int threads) {
+    auto s = make_setup(test::asset_file("demo.mesh"), 0.05);
+    ParallelOptions p;
+    p.threads = threads;
+    p.min_region_work = 500;  // the demo is small: regions anyway
+    RemeshOptions o = band_remesh_options();
+    std::vector<PassReport> passes = run_in_regions(*s->adapted, o, p);
+    check_valid(s->adapted->mesh(), "after the run");
+    CHECK(s->adapted->count_inverted() == 0);
+    PassReport state = Remesher(*s->adapted, o).measure();
+    std::set<int> regions;
+    for (const PassReport& r : passes) regions.insert(r.region);
+    return std::make_tuple(state, regions, positions(s->adapted->mesh()));
+  };
+  const auto [serial, serial_regions, serial_positions] = run(1);
+  CHECK(serial_regions == std::set<int>{-1});
+  for (int threads : {2, 3, 4, 7}) {
+    CAPTURE(threads);
+    const auto [state, regions, pos] = run(threads);
+    CHECK(static_cast<int>(regions.size()) == threads + 1);  // the regions and the band
+    CHECK(state.in_band_share >= serial.in_band_share - 0.01);
+    CHECK(state.length_max <= 1.6);
+    CHECK(state.q_min >= 0.5 * serial.q_min);
+    CHECK(state.q_mean >= serial.q_mean - 0.02);
+    CHECK(std::abs(state.vertices - serial.vertices) <= 0.05 * serial.vertices);
+    const auto again = run(threads);
+    CHECK(std::get<2>(again) == pos);
+  }
+}
+
+TEST_CASE("remesh: a required edge is neither split, collapsed nor swapped") {
+  auto s = make_setup(test::asset_file("demo.mesh"), 0.05);
+  SurfaceMesh& m = s->adapted->mesh();
+  // A closed loop of required edges: the equator of the demo sphere, the
+  // edges whose ends both lie within 0.15 of z = 0 and whose triangle sits above.
+  std::vector<std::array<Vec3, 2>> required;
+  for (Corner c : m.edges()) {
+    const Vertex a = m.edge_from(c), b = m.edge_to(c);
+    if (std::abs(m.position(a).z) < 0.15 && std::abs(m.position(b).z) < 0.15) {
+      m.add_edge_tag(c, kRequired);
+      m.add_vertex_tag(a, kRequired);
+      m.add_vertex_tag(b, kRequired);
+      required.push_back({m.position(a), m.position(b)});
+    }
+  }
+  REQUIRE(required.size() >= 3);
+  Remesher r(*s->adapted, band_remesh_options());
+  r.run();
+  check_valid(m, "after the run");
+  CHECK(m.n_vertices() > 1000);  // refined around them
+  int found = 0;
+  for (const auto& e : required) {
+    const auto at = [&](const Vec3& p) {
+      for (Vertex v : m.vertices())
+        if (m.position(v).x == p.x && m.position(v).y == p.y && m.position(v).z == p.z) return v;
+      return Vertex();
+    };
+    const Vertex a = at(e[0]), b = at(e[1]);
+    REQUIRE(a.is_valid());
+    REQUIRE(b.is_valid());
+    const Corner c = m.find_edge(a, b).is_valid() ? m.find_edge(a, b) : m.find_edge(b, a);
+    REQUIRE(c.is_valid());
+    CHECK(m.has_tag(c, kRequired));
+    ++found;
+  }
+  CHECK(found == static_cast<int>(required.size()));
+}
+
+TEST_CASE("adapt --threads: sphere20k to ~80k triangles with 2 threads, figures of the serial run") {
+  ANISURF_REQUIRE_SHARED(path, "bench/inputs/sphere20k.mesh");
+  auto run = [&](int threads) {
+    AdaptOptions o;
+    o.metric.source = MetricRecipe::Source::Iso;
+    o.metric.iso = 0.02;
+    o.threads = threads;
+    return adapt({load_mesh(path)}, o);
+  };
+  const AdaptResult serial = run(1);
+  const AdaptResult parallel = run(2);
+  check_valid(parallel.mesh, "the output");
+  const PassReport& s = serial.cycles.back().final;
+  const PassReport& p = parallel.cycles.back().final;
+  CHECK(parallel.cycles.back().inverted_after == 0);
+  CHECK(p.in_band_share >= s.in_band_share - 0.005);
+  CHECK(p.length_max <= 1.5);
+  CHECK(p.q_min >= 0.6 * s.q_min);
+  CHECK(p.q_mean >= s.q_mean - 0.005);
+  CHECK(std::abs(p.vertices - s.vertices) <= 0.03 * s.vertices);
+  bool regions = false;
+  for (const PassReport& r : parallel.cycles.back().passes) regions = regions || r.region >= 0;
+  CHECK(regions);
+}
+
+TEST_CASE("remesh: a collapse whose kept vertex changes slot takes the vertex's properties along") {
+  // Coarsening the demo sphere around required vertices: each keeps its own
+  // value of a property of its own (the border vertices of a region keep the
+  // whole's vertex they stand for so).
+  auto s = make_setup(test::asset_file("demo.mesh"), 0.9);
+  SurfaceMesh& m = s->adapted->mesh();
+  Property<int> id = m.add_vertex_property<int>("test:id", -1);
+  std::vector<std::pair<Vec3, int>> required;
+  for (Vertex v : m.vertices()) {
+    id[v] = v.idx;
+    if (v.idx % 16 == 0) {
+      m.add_vertex_tag(v, kRequired);
+      required.push_back({m.position(v), v.idx});
+    }
+  }
+  Remesher r(*s->adapted, band_remesh_options());
+  const std::vector<PassReport> passes = r.run();
+  int collapses = 0;
+  for (const PassReport& p : passes) collapses += p.collapses;
+  REQUIRE(collapses > 20);
+  check_valid(m, "after the coarsening");
+  for (const auto& [at, original] : required) {
+    Vertex found;
+    for (Vertex v : m.vertices())
+      if (m.position(v).x == at.x && m.position(v).y == at.y && m.position(v).z == at.z) found = v;
+    REQUIRE(found.is_valid());
+    CHECK(id[found] == original);
+  }
+}
