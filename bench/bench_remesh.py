@@ -6,6 +6,7 @@ figures (Mmg 5.8.0 mmgs, from ../shared/bench/README.md).
 usage: bench_remesh.py [--anisurf BIN] [--shared DIR] [--out DIR] [--large]
                        [--cases a,b] [--profiles default,paper] [-- extra adapt options]
        bench_remesh.py --peer [--mmgs BIN] [--repeat N] [--cases a,b] [--scaling]
+       bench_remesh.py --threads-series [--threads 1,2] [--repeat N] [--cases a,b]
 
 --peer: the performance table of issue #16, anisurf and Mmg 5.8.0's mmgs run side
 by side in this run on the same inputs (the only meaningful ratio on a shared
@@ -16,6 +17,12 @@ wall time and peak RSS (the median of --repeat runs), bytes per output triangle,
 % of edges in band and q min / mean by eval.py; the ratio mmgs time / anisurf
 time. --scaling adds the isotropic series of sphere20k at sizes giving about
 10k, 100k, 1M and 3M triangles, with the time per triangle and its spread.
+
+--threads-series: `anisurf adapt --threads N` for each N of --threads (default
+1 and every core) on sphere20k_isofine and sphere20k_bandfine (--cases picks
+others of --peer's), the runs of each case interleaved (1, 2, 1, 2 ...: the
+machine's drift hits both alike): wall time (median), the speedup over the
+first N, T, % in band and q min / mean by eval.py.
 
 Profiles: `default` runs `anisurf adapt` with its defaults (lmin 0.72, lmax 1.4:
 the edges end in eval.py's band [1/sqrt2, sqrt2]); `paper` with the report's
@@ -74,7 +81,9 @@ PEER_CASES = {
     "iso1.8M": ("sphere20k.mesh", None, 0.004, [], "iso:0.004"),
     "sphere500k_band_nograd": ("@out/sphere500k.mesh", "@out/sphere500k_band.sol", None, ["-hgrad", "-1"], "band"),
     "sphere20k_bandfine": ("sphere20k.mesh", "sphere20k_bandfine.sol", None, [], "bandfine"),
+    "sphere20k_isofine": ("sphere20k.mesh", "sphere20k_isofine.sol", None, [], "iso:0.007"),
 }
+THREAD_CASES = ["sphere20k_isofine", "sphere20k_bandfine"]
 # Sizes of the scaling series on sphere20k (the unit sphere: about 29 / h^2 triangles).
 SCALING_SIZES = [0.054, 0.017, 0.0054, 0.0031]
 
@@ -132,7 +141,7 @@ def peer_tables(a):
     os.makedirs(a.out, exist_ok=True)
     inputs = os.path.join(a.shared, "bench", "inputs")
     evaluator = os.path.join(a.shared, "bench", "eval.py")
-    names = a.cases.split(",") if a.cases else list(PEER_CASES)
+    names = a.cases.split(",") if a.cases else [n for n in PEER_CASES if n not in THREAD_CASES or n == "sphere20k_bandfine"]
     if any(PEER_CASES[n][0].startswith("@out/") for n in names) and not os.path.exists(
             os.path.join(a.out, "sphere500k_band.sol")):
         print("making sphere500k with gen.py ...", file=sys.stderr)
@@ -192,6 +201,46 @@ def peer_tables(a):
             json.dump(rows, f, indent=1)
 
 
+def thread_series(a):
+    """The speedup of --threads N over the first N, runs interleaved."""
+    os.makedirs(a.out, exist_ok=True)
+    inputs = os.path.join(a.shared, "bench", "inputs")
+    evaluator = os.path.join(a.shared, "bench", "eval.py")
+    counts = [int(x) for x in a.threads.split(",")] if a.threads else [1, os.cpu_count() or 1]
+    names = a.cases.split(",") if a.cases else THREAD_CASES
+    print("| case | threads | T | time s (median of %d) | speedup | %% in band | q min / mean |" % a.repeat)
+    print("|---|---|---|---|---|---|---|")
+    rows = []
+    for name in names:
+        mesh, sol, size, opts, spec = PEER_CASES[name]
+        if mesh.startswith("@out/"):
+            mesh = os.path.join(a.out, mesh[5:])
+            sol = sol and sol.replace("@out/", a.out + os.sep)
+        else:
+            mesh = os.path.join(inputs, mesh)
+            sol = sol and os.path.join(inputs, sol)
+        cmds, times = {}, {n: [] for n in counts}
+        for n in counts:
+            out_mesh = os.path.join(a.out, "threads_%s_%d.mesh" % (name, n))
+            cmds[n] = (out_mesh, [a.anisurf, "adapt", mesh, "-o", out_mesh, "-v", "0", "--threads", str(n)] + opts +
+                       (["--size", "%.17g" % size] if size is not None else ["-sol", sol]) + a.extra)
+        for _ in range(a.repeat):
+            for n in counts:
+                times[n].append(run_measured(cmds[n][1])[0])
+        base = median(times[counts[0]])
+        for n in counts:
+            e = evaluate(evaluator, cmds[n][0], spec)
+            t = median(times[n])
+            print(f"| {name} | {n} | {e['nt']} | {t:.2f} | {base / t:.2f} | {e['len_in_range_pct']:.1f} | "
+                  f"{e['q_min']:.3f} / {e['q_mean']:.3f} |", flush=True)
+            rows.append({"case": name, "threads": n, "seconds": t, "runs": times[n], "speedup": base / t,
+                         "nt": e["nt"], "in_band_pct": e["len_in_range_pct"], "q_min": e["q_min"],
+                         "q_mean": e["q_mean"]})
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump(rows, f, indent=1)
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -206,8 +255,13 @@ def main():
     ap.add_argument("--mmgs", default=None, help="mmgs_O3 (default: on PATH, then /tmp/mmg-peer/mmg/build/bin)")
     ap.add_argument("--repeat", type=int, default=1, help="--peer: runs per tool and case (the median is printed)")
     ap.add_argument("--scaling", action="store_true", help="--peer: also the isotropic scaling series")
+    ap.add_argument("--threads-series", action="store_true", help="the speedup of --threads N over the first N")
+    ap.add_argument("--threads", default="", help="--threads-series: the counts (default 1 and every core)")
     ap.add_argument("extra", nargs="*", help="extra options for anisurf adapt (after --)")
     a = ap.parse_args()
+    if a.threads_series:
+        thread_series(a)
+        return
     if a.peer:
         peer_tables(a)
         return

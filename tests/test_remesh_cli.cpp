@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sys/wait.h>
 
 #include "io/mesh_io.h"
@@ -331,4 +332,42 @@ TEST_CASE("anisurf adapt --interpolate: a solution on the input carried onto the
     CHECK(status == 1);
     CHECK(!std::filesystem::exists(out));
   }
+}
+
+TEST_CASE("anisurf adapt --threads: regions in the report, the same output twice, bad counts refused") {
+  const std::string mesh = test::asset_file("demo.mesh");
+  const auto dir = test::temp_dir("adapt_threads");
+  int status = -1;
+  auto run = [&](const std::string& name, int threads) {
+    const std::string out = (dir / (name + ".mesh")).string(), report = (dir / (name + ".json")).string();
+    adapt("'" + mesh + "' --size 0.012 --threads " + std::to_string(threads) + " --report '" + report + "' -o '" + out +
+              "'",
+          &status);
+    REQUIRE(status == 0);
+    std::ifstream f(report);
+    return std::make_pair(test::file_bytes(out), nlohmann::json::parse(f));
+  };
+  const auto [one, one_report] = run("one", 1);
+  const auto [two, two_report] = run("two", 2);
+  const auto [again, again_report] = run("again", 2);
+  CHECK(two == again);
+  std::set<int> regions;
+  for (const auto& p : two_report["passes"]) regions.insert(p["region"].get<int>());
+  CHECK(regions.size() >= 3);  // two regions or more, then the band
+  CHECK(*regions.begin() == 0);
+  CHECK(*regions.rbegin() == static_cast<int>(regions.size()) - 1);
+  for (const auto& p : one_report["passes"]) CHECK(p["region"].get<int>() == -1);
+  CHECK(two_report["final"]["in_band_pct"].get<double>() >= one_report["final"]["in_band_pct"].get<double>() - 1.0);
+  CHECK(two_report["inverted"].get<int>() == 0);
+  const SurfaceMesh out = load_mesh((dir / "two.mesh").string());
+  CHECK(out.validate().ok());
+  int open = 0;
+  for (Corner c : out.edges()) open += out.is_boundary_edge(c);
+  CHECK(open == 0);
+  for (const char* bad : {"-1", "1.5", "x"}) {
+    adapt("'" + mesh + "' --size 0.1 --threads " + std::string(bad) + " -o '" + (dir / "bad.mesh").string() + "'",
+          &status);
+    CHECK(status == 2);
+  }
+  CHECK(!std::filesystem::exists(dir / "bad.mesh"));
 }

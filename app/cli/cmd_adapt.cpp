@@ -175,6 +175,7 @@ nlohmann::json pass_json(const remesh::PassReport& r) {
   j["q_min"] = r.q_min;
   j["q_mean"] = r.q_mean;
   j["seconds"] = r.seconds;
+  j["region"] = r.region;
   j["touched"] = r.touched.size();
   return j;
 }

@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/huge_pages.h"
+
 namespace anisurf {
 
 class BasePropertyArray {
@@ -39,7 +41,7 @@ class PropertyArray final : public BasePropertyArray {
  public:
   PropertyArray(std::string name, T init) : BasePropertyArray(std::move(name)), init_(std::move(init)) {}
   void resize(std::size_t n) override { data_.resize(n, init_); }
-  void reserve(std::size_t n) override { data_.reserve(n); }
+  void reserve(std::size_t n) override { reserve_huge(data_, n); }
   void reset(std::size_t i) override { data_[i] = init_; }
   // In place (keep_map is increasing: entries only move down), so no second
   // copy of the array is ever alive.

@@ -1,5 +1,7 @@
 #include "mesh/surface_mesh.h"
 
+#include "core/huge_pages.h"
+
 #include <algorithm>
 #include <cassert>
 #include <sstream>
@@ -330,13 +332,14 @@ void SurfaceMesh::clear() {
 }
 
 void SurfaceMesh::reserve(int nv, int nt) {
-  vpos_.reserve(nv);
-  vcorner_.reserve(nv);
-  vtag_.reserve(nv);
+  const auto v = static_cast<std::size_t>(nv), c = 3 * static_cast<std::size_t>(nt);
+  reserve_huge(vpos_, v);
+  reserve_huge(vcorner_, v);
+  reserve_huge(vtag_, v);
   vref_.reserve(nv);
-  tv_.reserve(3 * static_cast<std::size_t>(nt));
-  to_.reserve(3 * static_cast<std::size_t>(nt));
-  etag_.reserve(3 * static_cast<std::size_t>(nt));
+  reserve_huge(tv_, c);
+  reserve_huge(to_, c);
+  reserve_huge(etag_, c);
   eref_.reserve(3 * static_cast<std::size_t>(nt));
   ttag_.reserve(nt);
   tref_.reserve(nt);

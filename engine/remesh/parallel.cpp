@@ -1,15 +1,14 @@
 #include "remesh/parallel.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <exception>
 #include <memory>
 #include <mutex>
 #include <thread>
-#include <chrono>
-#include <cstdio>
-#include <cstdlib>
 
+#include "remesh/operators.h"
 #include "remesh/partition.h"
 
 namespace anisurf::remesh {
@@ -52,6 +51,57 @@ std::vector<PassReport> remesh_region(AdaptedMesh& whole, Region& r, GeometrySur
 
 bool over_limit(const std::vector<PassReport>& passes) { return !passes.empty() && passes.back().over_limit; }
 
+// Splits the edges between two regions (or a region and the triangles left
+// out of all) longer than lmax, the longest first, until none is or none can
+// be: each region then meets its frozen border at the sizes the metric asks
+// for there (a border edge many sizes long stays frozen among slivers). The
+// two triangles a split adds join the regions of the triangles they halve.
+int refine_borders(AdaptedMesh& m, std::vector<int>& part, const OperatorOptions& o) {
+  using M = SurfaceMesh;
+  SurfaceMesh& mesh = m.mesh();
+  auto part_of = [&](Corner c) { return part[static_cast<std::size_t>(M::triangle(c).idx)]; };
+  struct Long {
+    double length;
+    int a, b;
+  };
+  int total = 0;
+  for (int sweep = 0; sweep < 64; ++sweep) {
+    std::vector<Long> edges;
+    for (Corner c : mesh.edges()) {
+      const Corner oc = mesh.opposite(c);
+      if (!oc.is_valid() || part_of(c) == part_of(oc)) continue;
+      const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
+      const double l = m.length(a, b);
+      if (l > o.lmax) edges.push_back({l, a.idx, b.idx});
+    }
+    std::sort(edges.begin(), edges.end(), [](const Long& x, const Long& y) {
+      return x.length > y.length || (x.length == y.length && (x.a < y.a || (x.a == y.a && x.b < y.b)));
+    });
+    int done = 0;
+    for (const Long& e : edges) {
+      const Corner c = mesh.find_edge(Vertex(e.a), Vertex(e.b));
+      if (!c.is_valid() || !mesh.opposite(c).is_valid()) continue;
+      const SplitPlan plan = can_split(m, c, o);
+      if (plan.why != Rejection::None || plan.swap_instead) continue;
+      const Corner oc = mesh.opposite(c);
+      const int pa = part_of(c), pb = part_of(oc);
+      const Vertex va = mesh.vertex(c);
+      const Vertex v = split(m, c, plan);
+      if (!v.is_valid()) continue;
+      part.resize(static_cast<std::size_t>(mesh.triangle_capacity()), -1);
+      for (Corner k : mesh.fan_corners(v)) {
+        const Triangle t = M::triangle(k);
+        const bool a_side = mesh.vertex(t, 0) == va || mesh.vertex(t, 1) == va || mesh.vertex(t, 2) == va;
+        part[static_cast<std::size_t>(t.idx)] = a_side ? pa : pb;
+      }
+      ++done;
+    }
+    total += done;
+    if (done == 0) break;
+  }
+  return total;
+}
+
 }  // namespace
 
 int region_count(const AdaptedMesh& m, const ParallelOptions& p) {
@@ -59,7 +109,7 @@ int region_count(const AdaptedMesh& m, const ParallelOptions& p) {
   double work = 0;
   for (Triangle t : m.mesh().triangles()) work += triangle_work(m, t);
   const double per_region = std::max(p.min_region_work, 1.0);
-  return std::clamp(static_cast<int>(work / per_region), 1, p.threads);
+  return std::clamp(static_cast<int>(work / per_region), 1, p.threads * std::max(p.regions_per_thread, 1));
 }
 
 std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& options, const ParallelOptions& p,
@@ -69,9 +119,8 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     Remesher remesher(m, options);
     return remesher.run(progress);
   }
-  auto T0 = std::chrono::steady_clock::now();
-  auto lap = [&](const char* what) { if (std::getenv("ANISURF_DEBUG_REGIONS")) std::fprintf(stderr, "%s %.3f\n", what, std::chrono::duration<double>(std::chrono::steady_clock::now() - T0).count()); };
   std::vector<int> part = partition_triangles(m, n);
+  refine_borders(m, part, options.op);
   for (int k = 0; k < n; ++k) drop_pinched_fans(m.mesh(), part, k);
   // The triangles left out of every region go to the band (their vertices
   // seed it).
@@ -79,7 +128,6 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
   for (Triangle t : m.mesh().triangles())
     if (part[static_cast<std::size_t>(t.idx)] < 0)
       for (int k = 0; k < 3; ++k) seeds.push_back(m.mesh().vertex(t, k));
-  lap("partition");
   std::vector<double> work(static_cast<std::size_t>(n), 0.0);
   double total = 0;
   for (Triangle t : m.mesh().triangles()) {
@@ -103,7 +151,6 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     const auto i = static_cast<std::size_t>(k);
     try {
       regions[i] = cut_region(m.mesh(), part, k);
-      if (k == 0) lap("cut");
       const std::unique_ptr<GeometrySurface> geometry = m.geometry().copy_for_thread();
       const std::unique_ptr<ControlSpace> control = m.control().copy_for_thread();
       RemeshOptions o = options;
@@ -116,14 +163,18 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     }
   };
   {
+    // The regions are taken in turn by the threads (the first on this one).
+    std::atomic<int> next{0};
+    auto worker = [&] {
+      for (int k = next++; k < n; k = next++) work_on(k);
+    };
     std::vector<std::thread> threads;
-    for (int k = 1; k < n; ++k) threads.emplace_back(work_on, k);
-    work_on(0);
+    for (int t = 1; t < std::min(p.threads, n); ++t) threads.emplace_back(worker);
+    worker();
     for (std::thread& t : threads) t.join();
   }
   for (const std::exception_ptr& e : errors)
     if (e) std::rethrow_exception(e);
-  lap("regions");
 
   std::vector<PassReport> out;
   for (int k = 0; k < n; ++k)
@@ -149,7 +200,6 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     r = Region{};
     out.insert(out.end(), passes[static_cast<std::size_t>(k)].begin(), passes[static_cast<std::size_t>(k)].end());
   }
-  lap("paste");
   std::vector<int> band = band_around(mesh, seeds, p.band_rings);
   fill_pinched_fans(mesh, band);
   Region b = cut_region(mesh, band, 0);
@@ -160,9 +210,7 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     out.insert(out.end(), band_passes.begin(), band_passes.end());
     return out;
   }
-  lap("band");
   paste_region(mesh, band, 0, b.mesh);
-  lap("band paste");
   out.insert(out.end(), band_passes.begin(), band_passes.end());
   return out;
 }

@@ -1,14 +1,16 @@
 // Section 6's remeshing loop on several threads, by regions (the partition +
 // frozen interface scheme of ParMmg, in one process; remesh/partition.h):
-//  1. T_1 is split into `threads` regions of about equal predicted work;
+//  1. T_1 is split into regions_per_thread x threads regions of about
+//     equal predicted work;
 //  2. each region is cut out with its border frozen (required) and runs the
-//     whole schedule (Remesher::run) on a thread of its own, with its own
-//     copies of the search structures of T_G and T_0 (copy_for_thread);
+//     whole schedule (Remesher::run) on one of the threads, which take the
+//     regions in turn, with its own copies of the search structures of T_G
+//     and T_0 (copy_for_thread);
 //  3. the regions are pasted back in order, and the band of `band_rings`
 //     rings around their borders, left as it was by step 2, runs the
 //     schedule again (its own border, inside the remeshed regions, frozen).
-// The output depends on the mesh, the options and the thread count only
-// (not on the threads' timing); the quality figures are those of the serial
+// The output depends on the mesh, the options and the region count only
+// (a function of the thread count; not on the threads' timing); the quality figures are those of the serial
 // loop, which runs when threads is 1 or the mesh is too small to share.
 #pragma once
 #include <functional>
@@ -20,6 +22,10 @@ namespace anisurf::remesh {
 
 struct ParallelOptions {
   int threads = 1;  // regions remeshed at once (1: the serial Remesher::run)
+  // Regions per thread, taken in turn by the threads as they finish: the
+  // work of a region is known within some 20% only (the anisotropic
+  // sphere20k_bandfine: two regions of equal output took 10 and 12 s).
+  int regions_per_thread = 2;
   // Each region needs at least this much predicted work (triangle_work:
   // about the triangles it holds and will hold): a smaller mesh is remeshed
   // by fewer regions.

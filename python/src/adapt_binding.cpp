@@ -68,6 +68,7 @@ py::dict pass_dict(const remesh::PassReport& r) {
   d["bound_splits"] = r.bound_splits;
   d["beyond_bound"] = r.beyond_bound;
   d["seconds"] = r.seconds;
+  d["region"] = r.region;  // threads: the region the pass ran on (the band last); -1: the whole mesh
   return d;
 }
 
@@ -236,7 +237,9 @@ Remeshing: lmin=0.72, lmax=1.4, ridge_angle=45 (--ar), detect_ridges=True
   'g1-closest' | 'polyhedral', weld=None (merge vertices within weld x the
   bounding-box diagonal), geometry=None (a Mesh or (vertices, triangles): the
   surface to project onto), measure_every_pass=False (report every pass's
-  state, not only each round's last).
+  state, not only each round's last), threads=0 (all cores: regions remeshed
+  at once, then the band around their borders; the output depends on the
+  count; 1: serial).
 Data: fields= dict name -> (N,), (N, 3) or (N, 6) arrays, interpolated onto
   the output (section 6); refs= (M,) triangle references.
 

@@ -57,7 +57,8 @@ const std::vector<std::string> kSourceKeywords = {"metric", "size", "tensor", "h
                                                   "curvature"};
 const std::vector<std::string> kRemeshKeywords = {
     "ridge_angle", "detect_ridges", "lmin", "lmax", "curve_turn", "curve_sag", "free_surface", "rounds", "relax",
-    "cycles", "fixed_point", "max_memory", "max_growth", "measure_every_pass", "length", "interpolation", "surface", "weld"};
+    "cycles", "fixed_point", "max_memory", "max_growth", "measure_every_pass", "length", "interpolation", "surface", "weld",
+    "threads"};
 
 Keywords::Keywords(const py::kwargs& kwargs, std::string function,
                    std::initializer_list<const std::vector<std::string>*> known)
@@ -221,6 +222,8 @@ void adapt_options_from(Keywords& k, remesh::AdaptOptions& o) {
   if (!(o.max_growth >= 0) || !std::isfinite(o.max_growth))
     throw py::value_error(k.function() + "(): max_growth expects a factor >= 0 (0: no limit)");
   o.remesh.measure_every_pass = k.take_bool("measure_every_pass", false);
+  o.threads = k.take_int("threads", 0);
+  if (o.threads < 0 || o.threads > 1024) throw py::value_error(k.function() + "(): threads expects 0 (all cores) to 1024");
   if (!(o.remesh.op.lmin > 0) || !(o.remesh.op.lmax > o.remesh.op.lmin))
     throw py::value_error(k.function() + "(): need 0 < lmin < lmax");
   if (!(o.remesh.op.max_curve_turn_deg > 0) || !(o.remesh.op.curve_sag > 0))

@@ -168,3 +168,26 @@ def test_the_gil_is_released_while_adapting():
     for r in both:
         assert np.array_equal(r.vertices, results["thread"].vertices)
         assert np.array_equal(r.triangles, results["thread"].triangles)
+
+
+def test_threads_remesh_by_regions_with_the_serial_figures():
+    vertices, triangles = icosphere(4)  # 5120 triangles, refined to ~80k
+    h = 0.02
+    serial = anisurf.adapt(vertices, triangles, size=h, threads=1)
+    both = anisurf.adapt(vertices, triangles, size=h, threads=2)
+    again = anisurf.adapt(vertices, triangles, size=h, threads=2)
+    regions = {p["region"] for p in both.reports[-1]["passes"]}
+    assert len(regions) >= 3 and regions == set(range(len(regions)))  # the regions, then the band
+    assert {p["region"] for p in serial.reports[-1]["passes"]} == {-1}
+    assert both.quality["inverted"] == 0
+    assert both.lengths["in_band_pct"] >= serial.lengths["in_band_pct"] - 0.5
+    assert abs(len(both.vertices) - len(serial.vertices)) < 0.03 * len(serial.vertices)
+    # The same output for the same thread count.
+    assert np.array_equal(both.vertices, again.vertices)
+    assert np.array_equal(both.triangles, again.triangles)
+    # Closed: every edge shared by two triangles.
+    edges = np.sort(both.triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    _, counts = np.unique(edges, axis=0, return_counts=True)
+    assert np.all(counts == 2)
+    with pytest.raises(ValueError, match="threads"):
+        anisurf.adapt(vertices, triangles, size=h, threads=-1)
