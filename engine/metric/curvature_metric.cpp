@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "geometry/features.h"
 #include "geometry/normals.h"
+#include "geometry/parallel_chunks.h"
 #include "metric/hessian.h"
 #include "metric/surface_metric.h"
 
@@ -133,21 +134,28 @@ MetricField curvature_metric(const SurfaceMesh& mesh, double hausd, const Metric
   const double floor = 8.0 * hausd / (bounds.hmax * bounds.hmax);  // |kappa| giving hmax
   const double scale = 1.0 / (8.0 * hausd);
   MetricField M(mesh.vertex_capacity(), SymTensor3::identity());
-  for (Vertex v : mesh.vertices()) {
-    const int i = v.idx;
-    const int first = sc.first[i], last = sc.first[i + 1];
-    if (first == last) continue;
-    SymTensor3 m = absolute_tangent_metric(sc.form[first], sc.normal[first], floor, scale);
-    if (sc.on_feature[i]) {
-      for (int s = first + 1; s < last; ++s)
-        m = intersect(m, absolute_tangent_metric(sc.form[s], sc.normal[s], floor, scale));
-      for (const CurveDirection& d : curve_directions(mesh, v)) m = intersect(m, curve_metric(d, floor, scale));
+  // Vertex by vertex, each on its own (parallel chunks of the slots).
+  const int nv = mesh.vertex_capacity();
+  run_chunks(nv, chunk_count(nv, 8192), [&](int, int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      const Vertex v(i);
+      if (mesh.is_deleted(v)) continue;
+      const int first = sc.first[i], last = sc.first[i + 1];
+      if (first == last) continue;
+      SymTensor3 m = absolute_tangent_metric(sc.form[first], sc.normal[first], floor, scale);
+      if (sc.on_feature[i]) {
+        for (int s = first + 1; s < last; ++s)
+          m = intersect(m, absolute_tangent_metric(sc.form[s], sc.normal[s], floor, scale));
+        for (const CurveDirection& d : curve_directions(mesh, v)) m = intersect(m, curve_metric(d, floor, scale));
+      }
+      M[i] = m;
     }
-    M[i] = m;
-  }
+  });
   intersect_crease_metrics(mesh, hausd, floor, scale, M);
-  for (Vertex v : mesh.vertices())
-    if (!mesh.is_isolated(v)) M[v.idx] = clamp_metric(M[v.idx], bounds);
+  run_chunks(nv, chunk_count(nv, 8192), [&](int, int begin, int end) {
+    for (int i = begin; i < end; ++i)
+      if (!mesh.is_deleted(Vertex(i)) && !mesh.is_isolated(Vertex(i))) M[i] = clamp_metric(M[i], bounds);
+  });
   return M;
 }
 
