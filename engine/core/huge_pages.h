@@ -13,10 +13,9 @@ namespace anisurf {
 // Asks the kernel to back the whole 2 MB pages inside [data, data + bytes)
 // with transparent huge pages (Linux madvise MADV_HUGEPAGE; in the usual
 // "madvise" mode the kernel uses them only where asked). Filling a fresh
-// array then takes one page fault per 2 MB instead of one per 4 KB (a large
-// share of the time on virtual machines: sphere20k refined to 1.8M
-// triangles on 2 threads, 175k faults -> 122k), and random accesses miss
-// the TLB less.
+// array then takes one page fault per 2 MB instead of one per 4 KB (page
+// faults are slow on virtual machines), and random accesses miss the TLB
+// less.
 // Arrays under 4 MB are left alone; elsewhere a no-op.
 inline void advise_huge_pages(const void* data, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)

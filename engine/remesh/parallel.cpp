@@ -137,7 +137,7 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     total += w;
   }
 
-  // Cut, remeshed and handed back by one thread per region.
+  // Each region cut, remeshed and handed back by the thread that takes it.
   std::vector<Region> regions(static_cast<std::size_t>(n));
   std::vector<std::vector<PassReport>> passes(static_cast<std::size_t>(n));
   std::vector<std::exception_ptr> errors(static_cast<std::size_t>(n));
@@ -207,8 +207,7 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
   o.relaxation_stages = 0;  // the band is adapted already but for its middle
   // The final pass's swaps toward valence 6 may lower a triangle's quality
   // for the smoothing to raise it again, which the band's frozen border
-  // prevents there (sphere20k at size 0.02: q min 0.628 with them, 0.755
-  // without; serial 0.795); the regions made them.
+  // prevents there; the regions made them.
   o.valence_swaps = false;
   std::vector<PassReport> band_passes = remesh_region(m, b, m.geometry(), m.control(), o, n, serial_progress);
   if (over_limit(band_passes)) {

@@ -23,8 +23,8 @@ namespace anisurf::remesh {
 struct ParallelOptions {
   int threads = 1;  // regions remeshed at once (1: the serial Remesher::run)
   // Regions per thread, taken in turn by the threads as they finish: the
-  // work of a region is known within some 20% only (the anisotropic
-  // sphere20k_bandfine: two regions of equal output took 10 and 12 s).
+  // predicted work of a region (its output) is not its time, which depends
+  // on how far the metric is from the mesh.
   int regions_per_thread = 2;
   // Each region needs at least this much predicted work (triangle_work:
   // about the triangles it holds and will hold): a smaller mesh is remeshed
