@@ -325,11 +325,47 @@ TEST_CASE("fidelity: a given metric gets the geometry protection, hausd = diagon
   CHECK(max_distance_to_input(u.mesh, in) > 5 * diagonal / 1000);
   CHECK(u.mesh.n_vertices() < r.mesh.n_vertices());
 
-  // An isotropic size is met as asked: no protection.
+  // An isotropic size is met as asked: no curvature metric, the size's own
+  // protection (a relative distance bound).
   remesh::AdaptOptions iso;
   iso.metric.source = MetricRecipe::Source::Iso;
   iso.metric.iso = 0.5;
-  CHECK(remesh::adapt({in}, iso).protection_hausd == 0);
+  const remesh::AdaptResult s = remesh::adapt({in}, iso);
+  CHECK(s.protection_hausd == 0);
+  CHECK(s.size_protection == doctest::Approx(0.1));
+}
+
+TEST_CASE("fidelity: an isotropic size wider than a rounded tip keeps its size and no chord cuts across the tip") {
+  // featuretype.STL at diagonal / 60: a tongue 0.19 high whose end is a half
+  // circle of radius about 0.05, half the size. Without the size protection a
+  // chord across the end's wall sags by 0.59% of the diagonal (0.35 h); the
+  // protection splits the midpoints farther than h / 10 onto the input and
+  // leaves the rest of the mesh at its size.
+  ANISURF_REQUIRE_SHARED(path, "meshes/featuretype.STL");
+  const SurfaceMesh in = load_mesh(path);
+  const double diagonal = in.bbox().diagonal(), h = diagonal / 60;
+  remesh::AdaptOptions o;
+  o.metric.source = MetricRecipe::Source::Iso;
+  o.metric.iso = h;
+  remesh::AdaptOptions unprotected = o;
+  unprotected.protect_fraction = 0;  // what --hausd 0 sets
+
+  const remesh::AdaptResult r = remesh::adapt({in}, o);
+  REQUIRE(r.mesh.validate().ok());
+  CHECK(r.size_protection == doctest::Approx(0.1));
+  const double distance = max_distance_to_input(r.mesh, in);
+  const remesh::AdaptResult u = remesh::adapt({in}, unprotected);
+  REQUIRE(u.mesh.validate().ok());
+  const double unprotected_distance = max_distance_to_input(u.mesh, in);
+  MESSAGE("featuretype at diagonal/60: distance " << distance / h << " h with the size protection, "
+                                                  << unprotected_distance / h << " h without");
+  CHECK(u.size_protection == 0);
+  CHECK(distance <= 0.25 * h);  // 0.42% of the diagonal
+  CHECK(unprotected_distance > distance);
+  const auto [share, longest] = band_share(r.mesh, h);
+  CHECK(share >= 0.95);
+  CHECK(longest <= 1.41);
+  CHECK(r.mesh.n_vertices() <= u.mesh.n_vertices() + 50);
 }
 
 TEST_CASE("fidelity: --hausd is a bound with the gradation off, on a surface with creases below the ridge angle") {

@@ -59,7 +59,9 @@ const char* kAdaptHelp =
     "                       centroids farther than D from the input are split onto it.\n"
     "                       Without --hausd, a metric from a .sol, a field, --tensor or\n"
     "                       a Hessian gets D = diagonal / 1000 (geometry protection,\n"
-    "                       printed); --hausd 0: none. An isotropic --size has none.\n"
+    "                       printed). --size or --iso: the size is met, and edge\n"
+    "                       midpoints and centroids farther from the input than 0.1 x\n"
+    "                       the size are split onto it. --hausd 0: none.\n"
     "  --hgrad R            size gradation ratio (default 1.3, Mmg's); -1 or 0: off\n"
     "  --ar DEG             ridge detection angle (default 45); --nr: no detection\n"
     "                       (also -ar, -nr); ridges and boundaries stay curves, corners stay\n"
@@ -497,7 +499,7 @@ void print_summary(const AdaptCommandLine& c, int cycles, const remesh::AdaptRes
   std::printf("operations   %d splits, %d collapses, %d swaps, %d moves, %d removed (valence < 4)\n", splits,
               collapses, swaps, moves, removed);
   const double hausd = c.hausd > 0 ? c.hausd : r.protection_hausd;
-  if (hausd > 0 && !r.cycles.back().passes.empty()) {
+  if ((hausd > 0 || r.size_protection > 0) && !r.cycles.back().passes.empty()) {
     // The final passes: one, or one per region and the band (--threads).
     int bound_splits = 0, beyond = 0;
     for (const auto& p : r.cycles.back().passes)
@@ -505,8 +507,13 @@ void print_summary(const AdaptCommandLine& c, int cycles, const remesh::AdaptRes
         bound_splits += p.bound_splits;
         beyond += p.beyond_bound;
       }
-    std::printf("distance     %d splits onto the input; %d edge midpoints or centroids farther than hausd %.4g\n",
-                bound_splits, beyond, hausd);
+    char bound[96];
+    if (hausd > 0)
+      std::snprintf(bound, sizeof bound, "hausd %.4g", hausd);
+    else
+      std::snprintf(bound, sizeof bound, "%g x the size", r.size_protection);
+    std::printf("distance     %d splits onto the input; %d edge midpoints or centroids farther than %s\n",
+                bound_splits, beyond, bound);
   }
   std::printf("remeshing    %.2f s, %s operations per second\n", run_seconds,
               format_rate(splits + collapses + swaps + moves + removed, run_seconds).c_str());
@@ -548,6 +555,13 @@ int run_adapt(const std::vector<std::string>& args) {
                  "adapt: geometry protection: the metric is intersected with the curvature metric of hausd %.4g "
                  "(%g x the bounding-box diagonal; --hausd D to choose it, --hausd 0: off)\n",
                  protection, c.options.protect_fraction);
+  const double size_protection = remesh::size_protection_of(c.options);
+  if (size_protection > 0 && c.verbose >= 1)
+    std::fprintf(stderr,
+                 "adapt: geometry protection: edge midpoints and centroids farther from the input than %g x the "
+                 "size (beyond the smooth surface's own sagitta) are split onto it (--hausd D for a bound, "
+                 "--hausd 0: off)\n",
+                 size_protection);
   const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_read).count();
   const int verbose = c.verbose;
   const int cycles = c.options.cycles;

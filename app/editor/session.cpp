@@ -119,6 +119,10 @@ std::unique_ptr<Adaptation> EditorSession::make_adaptation() const {
   // bounds the vertices and the output's distance as in `anisurf adapt`.
   AdaptSettings a = adapt_settings_;
   a.metric.hausd = effective_hausd(settings_);
+  // The source decides the size protection (remesh::size_protection_of).
+  a.metric.source = settings_.source == MetricSettings::Source::Size  ? MetricRecipe::Source::Size
+                    : settings_.source == MetricSettings::Source::Iso ? MetricRecipe::Source::Iso
+                                                                      : MetricRecipe::Source::Given;
   return std::make_unique<Adaptation>(*input_, metric_, a, t0_snapshot_, geometry_, geometry_lock_, geometry_mesh_ == nullptr);
 }
 

@@ -159,7 +159,18 @@ RemeshOptions remesh_options_of(const AdaptOptions& options) {
   // an input's creases, smoothing in the final pass) the final pass splits
   // onto the input.
   if (options.metric.hausd > 0 && !(r.distance_bound > 0)) r.distance_bound = options.metric.hausd;
+  r.relative_distance_bound = size_protection_of(options);
   return r;
+}
+
+bool size_protected(const MetricRecipe& recipe) {
+  return recipe.source == MetricRecipe::Source::Size || recipe.source == MetricRecipe::Source::Iso;
+}
+
+double size_protection_of(const AdaptOptions& options) {
+  if (options.remesh.relative_distance_bound > 0) return options.remesh.relative_distance_bound;
+  if (options.metric.hausd > 0 || !(options.protect_fraction > 0) || !size_protected(options.metric)) return 0;
+  return options.protect_size_fraction;
 }
 
 bool protects_geometry(const MetricRecipe& recipe) {
@@ -195,6 +206,8 @@ void check_options(const AdaptOptions& o) {
   if (o.threads < 0 || o.threads > 1024) throw Error("the number of threads must be between 0 (all cores) and 1024");
   if (!(o.protect_fraction >= 0) || !std::isfinite(o.protect_fraction))
     throw Error("the geometry protection's fraction of the diagonal must be a number >= 0");
+  if (!(o.protect_size_fraction >= 0) || !std::isfinite(o.protect_size_fraction))
+    throw Error("the geometry protection's fraction of the size must be a number >= 0");
 }
 
 std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKind kind) {
@@ -244,6 +257,7 @@ AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& 
     options.metric.hausd = effective_hausd(options, tg.bbox().diagonal());
     result.protection_hausd = options.metric.hausd;
   }
+  result.size_protection = size_protection_of(options);
 
   std::unique_ptr<GeometrySurface> geometry;
   // The recipe of every cycle; a given metric is kept apart and moved into

@@ -73,8 +73,16 @@ struct AdaptOptions {
   // (metric.hausd 0) is intersected with the curvature metric of hausd =
   // protect_fraction x the bounding-box diagonal of T_G, which is then the
   // output's distance bound too (Mmg's default -hausd, relative to the
-  // model). An isotropic size is met as asked. 0: off (`--hausd 0`).
+  // model). 0: off (`--hausd 0`), for size sources too.
   double protect_fraction = 1e-3;
+  // Geometry protection of a size source (--size, iso; size_protected) with
+  // no hausd: the size is met as asked, and the final pass splits onto the
+  // input the edge midpoints and triangle centroids farther from it than
+  // protect_size_fraction x the size there, beyond the smooth surface's own
+  // sagitta (RemeshOptions::relative_distance_bound): the chords across a
+  // feature narrower than the size, such as a rounded tip or a small
+  // fillet. 0: off.
+  double protect_size_fraction = 0.1;
   // Threads for the remeshing loop (remesh/parallel.h: regions remeshed at
   // once; the output depends on the count, not on the threads' timing) and
   // for the setup loops (thread_limit). 0: one per hardware thread.
@@ -84,6 +92,12 @@ struct AdaptOptions {
 // True if a metric of `recipe`'s source gets the geometry protection
 // (AdaptOptions::protect_fraction) when it has no hausd.
 bool protects_geometry(const MetricRecipe& recipe);
+// True if a metric of `recipe`'s source is a size (--size, iso) whose
+// protection is the relative distance bound (AdaptOptions::protect_size_fraction).
+bool size_protected(const MetricRecipe& recipe);
+// The relative distance bound the options give the final pass: the
+// remeshing options' own, or the size source's protection, or 0.
+double size_protection_of(const AdaptOptions& options);
 // The chordal deviation the adaptation of T_G (bounding-box diagonal
 // `diagonal`) runs with: the recipe's, or the protection's, or 0.
 double effective_hausd(const MetricRecipe& recipe, double protect_fraction, double diagonal);
@@ -171,6 +185,9 @@ struct AdaptResult {
   // The hausd of the geometry protection (AdaptOptions::protect_fraction)
   // the adaptation ran with; 0: none (a hausd was given, or no protection).
   double protection_hausd = 0;
+  // The relative distance bound of a size source's protection
+  // (AdaptOptions::protect_size_fraction); 0: none.
+  double size_protection = 0;
   double seconds = 0;
 };
 

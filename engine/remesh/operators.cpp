@@ -39,9 +39,15 @@ struct Limits {
   Limits(double turn_deg, double surface_deg) : cos_turn(cos_deg(turn_deg)), cos_surface(cos_deg(surface_deg)) {}
 };
 
-// A new triangle (a, b, c) replacing one of unit normal `old_n`: refused when
-// degenerate, inverted or turned too far from old_n or from the surface
-// normals `sn` at its corners (unit, or zero where unknown: curves, corners).
+// A triangle whose height is below this fraction of its longest edge is
+// degenerate: its normal is rounding noise or says nothing of the surface
+// (an input's slivers).
+constexpr double kDegenerateHeight = 1e-6;
+
+// A new triangle (a, b, c) replacing one of unit normal `old_n` (zero: none
+// known): refused when degenerate, inverted or turned too far from old_n or
+// from the surface normals `sn` at its corners (unit, or zero where unknown:
+// curves, corners).
 Rejection check_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& old_n,
                          const std::array<Vec3, 3>& sn, const Limits& o) {
   const Vec3 n = raw_normal(a, b, c);
@@ -49,14 +55,22 @@ Rejection check_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
   const double area2 = norm(n);
   if (!(area2 > 1e-12 * len2)) return Rejection::Inversion;
   const Vec3 u = n / area2;
-  const double d = dot(u, old_n);
-  if (d <= 0) return Rejection::Inversion;
-  if (d < o.cos_turn) return Rejection::Normal;
+  if (norm2(old_n) > 0) {
+    const double d = dot(u, old_n);
+    if (d <= 0) return Rejection::Inversion;
+    if (d < o.cos_turn) return Rejection::Normal;
+  }
+  // Against the surface normals: never facing away, and turned beyond the
+  // limit only if no more than the replaced triangle (where a coarse input
+  // turns by more than the limit within one triangle, a corner whose normal
+  // is 67 degrees off its own triangles, the triangles in the old one's
+  // plane stay admissible).
+  const bool known = norm2(old_n) > 0;
   for (const Vec3& s : sn) {
     if (!(norm2(s) > 0)) continue;
-    const double ds = dot(u, s);
+    const double ds = dot(u, s), before = known ? dot(old_n, s) - 1e-9 : 1.0;
     if (ds <= 0) return Rejection::Inversion;
-    if (ds < o.cos_surface) return Rejection::Normal;
+    if (ds < o.cos_surface && ds < before) return Rejection::Normal;
   }
   return Rejection::None;
 }
@@ -90,7 +104,25 @@ Rejection check_surface_side(AdaptedMesh& m, const std::array<Vec3, 3>& x, const
   return m.faces_surface(x, free, hints) ? Rejection::None : Rejection::Inversion;
 }
 
-Vec3 unit_normal(const SurfaceMesh& mesh, Triangle t) { return normalized(mesh.triangle_normal(t)); }
+// The normal a new triangle replacing t is compared with: t's unit normal,
+// or where t is degenerate (kDegenerateHeight) the mean of its corners' surface normals,
+// else of its neighbours' normals (area-weighted), else zero (no reference).
+Vec3 reference_normal(const AdaptedMesh& m, Triangle t) {
+  const SurfaceMesh& mesh = m.mesh();
+  const Vec3 n = mesh.triangle_normal(t);
+  const int* v = mesh.triangle_vertices(t);
+  const Vec3 &a = mesh.position(Vertex(v[0])), &b = mesh.position(Vertex(v[1])), &c = mesh.position(Vertex(v[2]));
+  const double len2 = std::max({norm2(b - a), norm2(c - b), norm2(a - c)});
+  if (norm2(n) > kDegenerateHeight * kDegenerateHeight * len2 * len2) return normalized(n);
+  Vec3 sum;
+  for (int k = 0; k < 3; ++k) sum += m.surface_normal(Vertex(v[k]));
+  if (norm2(sum) > 0) return normalized(sum);
+  for (int k = 0; k < 3; ++k) {
+    const Corner o = mesh.opposite(M::corner(t, k));
+    if (o.is_valid()) sum += mesh.triangle_normal(M::triangle(o));
+  }
+  return norm2(sum) > 0 ? normalized(sum) : Vec3();
+}
 
 // The positions and metrics of triangle t with vertex `moved` (and optionally
 // `also`) replaced by the placement p.
@@ -208,10 +240,16 @@ Vec3 split_point(const AdaptedMesh& m, Vertex b, Vertex d, const OperatorOptions
 // each replaces.
 Rejection check_halves(const AdaptedMesh& m, Corner c, const Vec3& x, const Vec3& surface_n, const Limits& lim) {
   const SurfaceMesh& mesh = m.mesh();
+  // The point halves the edge: within a tenth of its length of an end it
+  // would only add a needle (a projection or T_G's closest point drawn to
+  // a point already taken, such as a fold of the input).
+  const Vec3 &pb = mesh.position(mesh.edge_from(c)), &pd = mesh.position(mesh.edge_to(c));
+  const double end2 = 0.01 * norm2(pd - pb);
+  if (!(norm2(x - pb) > end2) || !(norm2(x - pd) > end2)) return Rejection::Inversion;
   for (Corner k : {c, mesh.opposite(c)}) {
     if (!k.is_valid()) continue;
     const Triangle t = M::triangle(k);
-    const Vec3 old_n = unit_normal(mesh, t);
+    const Vec3 old_n = reference_normal(m, t);
     const Vertex va = mesh.vertex(k), vb = mesh.edge_from(k), vd = mesh.edge_to(k);
     const Vec3 pa = mesh.position(va), pb = mesh.position(vb), pd = mesh.position(vd);
     const Vec3 &na = m.surface_normal(va), &nb = m.surface_normal(vb), &nd = m.surface_normal(vd);
@@ -281,8 +319,9 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     // (a vertex far off a thin triangle would tilt everything refined
     // around it later).
     const Rejection first = plan.why;
-    // Where the smooth surface strays from the input (pulled back), the
-    // input's own closest point (on T_G's triangles or feature edge).
+    // The input's own closest point (on T_G's triangles or feature edge):
+    // where the smooth surface strays from the input (pulled back), or
+    // bulges across needles of T_G that its point would tilt.
     if (plan.at.pulled && norm(plan.at.on_input - plan.at.position) > 0) {
       plan.why = check_split_at(m, c, plan.at.on_input, sn, plan.at.hint_g, lim);
       if (plan.why == Rejection::None) {
@@ -436,7 +475,7 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
       if (has_r && has_k) continue;  // removed
       if (w == k && !moves) continue;  // unchanged
       const TriangleView tv = view(m, t, r, k, p);
-      const Rejection why = check_triangle(tv.x[0], tv.x[1], tv.x[2], unit_normal(mesh, t), tv.n, lim);
+      const Rejection why = check_triangle(tv.x[0], tv.x[1], tv.x[2], reference_normal(m, t), tv.n, lim);
       if (why != Rejection::None) return why;
       q_new = std::min(q_new, m.quality(tv.x, tv.M));
       any = true;
@@ -638,7 +677,7 @@ SwapPlan can_swap(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     plan.why = Rejection::Quality;
     return plan;
   }
-  const Vec3 n1 = normalized(raw_normal(pa, pb, pd)), n2 = normalized(raw_normal(pe, pd, pb));
+  const Vec3 n1 = reference_normal(m, M::triangle(c)), n2 = reference_normal(m, M::triangle(oc));
   const Vec3 navg = normalized(n1 + n2);
   const Limits lim(o);
   const Vec3 &na = m.surface_normal(a), &nb = m.surface_normal(b), &nd = m.surface_normal(d), &ne = m.surface_normal(e);
@@ -743,7 +782,7 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
   old_n.reserve(fan.size());
   plan.quality_before = 1;
   for (Corner x : fan) {
-    old_n.push_back(unit_normal(mesh, M::triangle(x)));
+    old_n.push_back(reference_normal(m, M::triangle(x)));
     plan.quality_before = std::min(plan.quality_before, m.quality(M::triangle(x)));
   }
   // The current lengths of the incident edges (the length filter compares with them).

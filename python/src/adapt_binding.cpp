@@ -29,6 +29,7 @@ struct Result : Mesh {
   bool fixed_point = false;
   std::string surface;
   double protection_hausd = 0;
+  double size_protection = 0;
   double seconds = 0;
 };
 
@@ -159,6 +160,7 @@ Result result_from(EngineRun run) {
   r.fixed_point = run.result.fixed_point;
   r.surface = run.result.surface;
   r.protection_hausd = run.result.protection_hausd;
+  r.size_protection = run.result.size_protection;
   r.seconds = run.result.seconds;
   return r;
 }
@@ -228,7 +230,9 @@ Bounds: hmin=0, hmax=inf, max_aniso=inf. hausd= chordal deviation
   (intersected with the curvature metric; new vertices stay within hausd/5;
   edge midpoints and centroids farther are split onto the input). Without
   hausd, a metric=, tensor= or Hessian source gets hausd = diagonal / 1000
-  (geometry protection: Result.protection_hausd); hausd=0: none.
+  (geometry protection: Result.protection_hausd); size= or iso= has its
+  midpoints and centroids farther than 0.1 x the size split onto the input
+  (Result.size_protection); hausd=0: none.
   hgrad=1.3 (-1: off), hgrad_space='metric' | 'physical'.
 Remeshing: lmin=0.72, lmax=1.4, ridge_angle=45 (--ar), detect_ridges=True
   (False: --nr), curve_turn=25, curve_sag=0.1, free_surface=False, rounds=30,
@@ -250,7 +254,8 @@ Result: a Mesh (vertices, triangles, refs, fields interpolated ...) with
   quality: dict (q_min, q_mean of eq. 17, qc_*, mean_ratio_*, inverted,
   complexity, predicted_vertices); lengths: dict (min, mean, max,
   in_band_pct, histogram over bins); fixed_point, surface, protection_hausd,
-  seconds.
+  size_protection (size= / iso=: edge midpoints and centroids farther from
+  the input than this fraction of the size were split onto it), seconds.
 An unknown keyword raises TypeError; bad arrays ValueError; the engine's
 refusals anisurf.Error subclasses (MetricError, ExpressionError,
 TopologyError: also ValueError; IoError: also OSError) with its message.)doc";
@@ -266,6 +271,7 @@ void bind_adapt(py::module_& m) {
       .def_readonly("fixed_point", &Result::fixed_point)
       .def_readonly("surface", &Result::surface)
       .def_readonly("protection_hausd", &Result::protection_hausd)
+      .def_readonly("size_protection", &Result::size_protection)
       .def_readonly("seconds", &Result::seconds);
   m.def("adapt", &adapt, py::arg("vertices"), py::arg("triangles") = py::none(), kAdaptDoc);
 }
