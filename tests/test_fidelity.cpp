@@ -335,6 +335,36 @@ TEST_CASE("fidelity: a given metric gets the geometry protection, hausd = diagon
   CHECK(s.size_protection == doctest::Approx(0.1));
 }
 
+TEST_CASE("fidelity: a coarse statue with folds keeps no degenerate triangle and splits its longest input edges") {
+  // thinker.mesh at diagonal / 60: coarse (input edges up to 11 h), folded
+  // (13 triangles face against their neighbours) and non-conforming. Its
+  // corners' normals lie up to 67 degrees off their own long triangles, and
+  // its folds draw projections onto one point: before the operators judged a
+  // split's halves against what the old triangle had and refused split
+  // points at an edge's end, 310 triangles of the output had no area and
+  // the 11 h input edges stayed whole.
+  ANISURF_REQUIRE_SHARED(path, "meshes/thinker.mesh");
+  const SurfaceMesh in = load_mesh(path);
+  const double h = in.bbox().diagonal() / 60;
+  remesh::AdaptOptions o;
+  o.metric.source = MetricRecipe::Source::Iso;
+  o.metric.iso = h;
+  const remesh::AdaptResult r = remesh::adapt({in}, o);
+  REQUIRE(r.mesh.validate().ok());
+  int degenerate = 0;
+  for (Triangle t : r.mesh.triangles()) {
+    const Vec3 a = r.mesh.position(r.mesh.vertex(t, 0)), b = r.mesh.position(r.mesh.vertex(t, 1)),
+               c = r.mesh.position(r.mesh.vertex(t, 2));
+    const double longest2 = std::max({norm2(b - a), norm2(c - b), norm2(a - c)});
+    if (norm(cross(b - a, c - a)) < 1e-6 * longest2) ++degenerate;
+  }
+  const auto [share, longest] = band_share(r.mesh, h);
+  MESSAGE("thinker at diagonal/60: " << degenerate << " degenerate triangles, longest edge " << longest << " h, "
+                                     << 100 * share << "% in band");
+  CHECK(degenerate <= 10);
+  CHECK(longest < 10);
+}
+
 TEST_CASE("fidelity: an isotropic size wider than a rounded tip keeps its size and no chord cuts across the tip") {
   // featuretype.STL at diagonal / 60: a tongue 0.19 high whose end is a half
   // circle of radius about 0.05, half the size. Without the size protection a

@@ -47,9 +47,10 @@ constexpr double kDegenerateHeight = 1e-6;
 // A new triangle (a, b, c) replacing one of unit normal `old_n` (zero: none
 // known): refused when degenerate, inverted or turned too far from old_n or
 // from the surface normals `sn` at its corners (unit, or zero where unknown:
-// curves, corners).
+// curves, corners). With `no_worse` (a split's halves), a corner's limit is
+// relaxed to what the replaced triangle already had.
 Rejection check_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& old_n,
-                         const std::array<Vec3, 3>& sn, const Limits& o) {
+                         const std::array<Vec3, 3>& sn, const Limits& o, bool no_worse = false) {
   const Vec3 n = raw_normal(a, b, c);
   const double len2 = std::max({norm2(b - a), norm2(c - b), norm2(a - c)});
   const double area2 = norm(n);
@@ -60,12 +61,12 @@ Rejection check_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
     if (d <= 0) return Rejection::Inversion;
     if (d < o.cos_turn) return Rejection::Normal;
   }
-  // Against the surface normals: never facing away, and turned beyond the
-  // limit only if no more than the replaced triangle (where a coarse input
-  // turns by more than the limit within one triangle, a corner whose normal
-  // is 67 degrees off its own triangles, the triangles in the old one's
-  // plane stay admissible).
-  const bool known = norm2(old_n) > 0;
+  // Against the surface normals: never facing away, and with `no_worse`
+  // turned beyond the limit only if no more than the replaced triangle
+  // (where a coarse input turns by more than the limit within one triangle,
+  // a corner whose normal is 67 degrees off its own triangles, the halves of
+  // its edges stay admissible).
+  const bool known = no_worse && norm2(old_n) > 0;
   for (const Vec3& s : sn) {
     if (!(norm2(s) > 0)) continue;
     const double ds = dot(u, s), before = known ? dot(old_n, s) - 1e-9 : 1.0;
@@ -253,8 +254,8 @@ Rejection check_halves(const AdaptedMesh& m, Corner c, const Vec3& x, const Vec3
     const Vertex va = mesh.vertex(k), vb = mesh.edge_from(k), vd = mesh.edge_to(k);
     const Vec3 pa = mesh.position(va), pb = mesh.position(vb), pd = mesh.position(vd);
     const Vec3 &na = m.surface_normal(va), &nb = m.surface_normal(vb), &nd = m.surface_normal(vd);
-    Rejection r = check_triangle(pa, pb, x, old_n, {na, nb, surface_n}, lim);
-    if (r == Rejection::None) r = check_triangle(pa, x, pd, old_n, {na, surface_n, nd}, lim);
+    Rejection r = check_triangle(pa, pb, x, old_n, {na, nb, surface_n}, lim, true);
+    if (r == Rejection::None) r = check_triangle(pa, x, pd, old_n, {na, surface_n, nd}, lim, true);
     if (r != Rejection::None) return r;
   }
   return Rejection::None;
