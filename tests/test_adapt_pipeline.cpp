@@ -224,3 +224,35 @@ TEST_CASE("anisurf adapt --weld: a triangle soup in any format adapts as one sur
                 &status);
   CHECK(status == 2);  // a usage error
 }
+
+TEST_CASE("adapt surface auto: polyhedral on an input fine for the metric, G1 otherwise") {
+  // icosphere(5): edges of about 0.033 on the unit sphere.
+  const SurfaceMesh fine = test::build(test::icosphere(5));
+  auto iso = [&](double h) {
+    return MetricField(static_cast<std::size_t>(fine.vertex_capacity()), isotropic_metric(h));
+  };
+  using remesh::SurfaceKind;
+  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(0.3)) == SurfaceKind::Polyhedral);
+  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(0.05)) == SurfaceKind::G1);
+  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, MetricField{}) == SurfaceKind::G1);
+  CHECK(remesh::resolve_surface(SurfaceKind::G1, fine, iso(0.3)) == SurfaceKind::G1);
+  CHECK(remesh::resolve_surface(SurfaceKind::Polyhedral, fine, iso(0.05)) == SurfaceKind::Polyhedral);
+  // One edge of the input longer than half the size asked at it: G1.
+  MetricField local = iso(0.3);
+  local[0] = isotropic_metric(0.05);
+  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, local) == SurfaceKind::G1);
+
+  // The coarsening runs on the facets, stays on the sphere and in band.
+  remesh::AdaptOptions o;
+  o.metric.source = MetricRecipe::Source::Iso;
+  o.metric.iso = 0.3;
+  const remesh::AdaptResult r = remesh::adapt({fine}, o);
+  REQUIRE(r.mesh.validate().ok());
+  CHECK(r.surface == "polyhedral");
+  CHECK(r.cycles.back().final.in_band_share > 0.95);
+  double off = 0;
+  for (Vertex v : r.mesh.vertices()) off = std::max(off, std::abs(norm(r.mesh.position(v)) - 1.0));
+  CHECK(off < 3e-4);  // on the facets: within their sagitta 0.033^2 / 8 = 1.4e-4 of the sphere
+  o.surface = SurfaceKind::G1;
+  CHECK(remesh::adapt({fine}, o).surface == "g1-bezier");
+}

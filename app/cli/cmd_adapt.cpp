@@ -74,8 +74,11 @@ const char* kAdaptHelp =
     "                       size M^-1/2 linear, default), linear (the coefficients,\n"
     "                       section 2.2), inverse (Remark 2) or log (log-Euclidean)\n"
     "  --surface S          g1: the G1 Bezier surface of section 3 at the parameters of\n"
-    "                       the projection onto the input triangles (default);\n"
-    "                       g1-closest: its closest point (slower); polyhedral\n"
+    "                       the projection onto the input triangles; g1-closest: its\n"
+    "                       closest point (slower); polyhedral; auto (default): g1,\n"
+    "                       or polyhedral when every input edge is at most 0.5 long\n"
+    "                       in the metric (the smooth surface would lie within about\n"
+    "                       0.06 h of the facets: a coarsening of a fine input)\n"
     "  --weld TOL           merge the vertices closer than TOL x the bounding box\n"
     "                       diagonal, in every format (0: identical positions; a soup\n"
     "                       of triangles becomes one surface)\n"
@@ -294,8 +297,10 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
     o.surface = remesh::SurfaceKind::Polyhedral;
   else if (surface == "g1-closest")
     o.surface = remesh::SurfaceKind::G1Closest;
-  else if (!surface.empty() && surface != "g1")
-    throw UsageError{"--surface expects g1, g1-closest or polyhedral, got '" + surface + "'"};
+  else if (surface == "g1")
+    o.surface = remesh::SurfaceKind::G1;
+  else if (!surface.empty() && surface != "auto")
+    throw UsageError{"--surface expects auto, g1, g1-closest or polyhedral, got '" + surface + "'"};
   if (!(c.hgrad > 1) && c.hgrad != -1 && c.hgrad != 0 && c.hgrad != 1)
     throw UsageError{"--hgrad expects a ratio > 1, or -1 (off)"};
   return c;

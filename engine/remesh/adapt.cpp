@@ -214,9 +214,23 @@ std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKin
   switch (kind) {
     case SurfaceKind::Polyhedral: return std::make_unique<PolyhedralSurface>(tg);
     case SurfaceKind::G1Closest: return std::make_unique<BezierGeometry>(tg, BezierGeometry::Mode::Closest);
-    case SurfaceKind::G1: break;
+    case SurfaceKind::G1:
+    case SurfaceKind::Auto: break;
   }
   return std::make_unique<BezierGeometry>(tg, BezierGeometry::Mode::Parametric);
+}
+
+SurfaceKind resolve_surface(SurfaceKind kind, const SurfaceMesh& tg, const MetricField& metric) {
+  if (kind != SurfaceKind::Auto) return kind;
+  if (metric.size() != static_cast<std::size_t>(tg.vertex_capacity()) || tg.n_triangles() == 0)
+    return SurfaceKind::G1;
+  for (Corner c : tg.edges()) {
+    const Vertex a = tg.edge_from(c), b = tg.edge_to(c);
+    const Vec3 e = tg.position(b) - tg.position(a);
+    const double l = std::max(metric_length(metric[a.idx], e), metric_length(metric[b.idx], e));
+    if (!(l <= kFineGeometryLength)) return SurfaceKind::G1;
+  }
+  return SurfaceKind::Polyhedral;
 }
 
 std::unique_ptr<ControlSpace> make_control(const SurfaceMesh& t0, MetricField metric, bool t0_is_geometry,
@@ -280,7 +294,10 @@ AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& 
     check_predicted_size(metric.predicted_vertices, options.memory_limit);
     timer.done("metric");
     if (!geometry) {  // after the first metric: a metric refused costs no surface
-      geometry = make_geometry(tg, options.surface);
+      // Auto is judged on T_G's own metric (T_0 is T_G in the first cycle).
+      const SurfaceKind kind =
+          resolve_surface(options.surface, tg, separate ? MetricField{} : metric.metric);
+      geometry = make_geometry(tg, kind);
       result.surface = geometry->name();
       timer.done("surface (frames, Bezier patches, locator)");
     }

@@ -30,6 +30,7 @@ enum class SurfaceKind {
   G1,          // the G1 Bezier surface at the parameters of the polyhedral projection (section 3)
   G1Closest,   // the closest point of the G1 surface (slower)
   Polyhedral,  // T_G's triangles
+  Auto,        // G1, or Polyhedral where T_G is fine for the metric (resolve_surface)
 };
 
 // The remeshing options of every front end: the report's, with lmin 0.72 so
@@ -46,7 +47,7 @@ struct AdaptOptions {
   // 0.252 against the coefficients linear).
   MetricInterpolation interpolation = MetricInterpolation::LinearSize;
   LengthFormula length = LengthFormula::LinearMetric;  // eq. 6
-  SurfaceKind surface = SurfaceKind::G1;
+  SurfaceKind surface = SurfaceKind::Auto;
   // Adaptation cycles (section 7.1): each adapted mesh is the next T_0, its
   // metric derived again from the recipe. They stop early at a fixed point:
   // a cycle whose vertex count is within `fixed_point` (relative) of the
@@ -203,7 +204,19 @@ struct AdaptCallbacks {
 void check_options(const AdaptOptions& options);
 
 // The surface T_1 is kept on, over `tg` (features tagged; outlives it).
+// The surface T_1 lies on (Auto: G1).
 std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKind kind);
+// Auto resolved for T_G and the metric at its vertices (T_G is T_0; empty
+// `metric`: G1): Polyhedral when every edge of T_G is at most
+// kFineGeometryLength long in the metric at both its ends. The G1 surface of
+// such a T_G lies within |e| theta / 8 <= 0.06 h of its facets even where
+// they turn by 60 degrees, about the distance InputBound allows (0.05 h):
+// the patches, frames and their memory (330 bytes a triangle) would change
+// nothing measurable (a 500k-triangle sphere coarsened to 7k triangles:
+// surface setup 9.5 -> 2.4 s, peak memory 360 -> 203 MB). Other kinds as
+// given.
+inline constexpr double kFineGeometryLength = 0.5;
+SurfaceKind resolve_surface(SurfaceKind kind, const SurfaceMesh& tg, const MetricField& metric);
 
 // The control space of T_0 with `metric` as the options say (interpolation).
 std::unique_ptr<ControlSpace> make_control(const SurfaceMesh& t0, MetricField metric, bool t0_is_geometry,

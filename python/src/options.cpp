@@ -240,7 +240,8 @@ void adapt_options_from(Keywords& k, remesh::AdaptOptions& o) {
                             {"log", MetricInterpolation::LogEuclidean}},
                            o.interpolation);
   o.surface = choice(k, "surface",
-                     {{"g1", remesh::SurfaceKind::G1},
+                     {{"auto", remesh::SurfaceKind::Auto},
+                      {"g1", remesh::SurfaceKind::G1},
                       {"g1-closest", remesh::SurfaceKind::G1Closest},
                       {"polyhedral", remesh::SurfaceKind::Polyhedral}},
                      o.surface);

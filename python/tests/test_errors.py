@@ -66,7 +66,7 @@ def test_keywords_are_checked(sphere):
         anisurf.adapt(vertices, triangles, hessian_of="x^2")
     with pytest.raises(ValueError, match="hgrad expects a ratio > 1"):
         anisurf.adapt(vertices, triangles, size=0.3, hgrad=0.5)
-    with pytest.raises(ValueError, match="surface expects one of g1, g1-closest, polyhedral"):
+    with pytest.raises(ValueError, match="surface expects one of auto, g1, g1-closest, polyhedral"):
         anisurf.adapt(vertices, triangles, size=0.3, surface="smooth")
     with pytest.raises(TypeError, match="hmin expects a number"):
         anisurf.adapt(vertices, triangles, size=0.3, hmin="small")
