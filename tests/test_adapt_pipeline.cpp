@@ -10,6 +10,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "geometry/features.h"
 #include "io/mesh_io.h"
 #include "mesh/stats.h"
 #include "metric/surface_metric.h"
@@ -225,22 +226,33 @@ TEST_CASE("anisurf adapt --weld: a triangle soup in any format adapts as one sur
   CHECK(status == 2);  // a usage error
 }
 
-TEST_CASE("adapt surface auto: polyhedral on an input fine for the metric, G1 otherwise") {
-  // icosphere(5): edges of about 0.033 on the unit sphere.
+TEST_CASE("adapt surface auto: polyhedral where the G1 surface would lie within 0.05 h of the facets, G1 otherwise") {
+  // icosphere(5): edges of about 0.033 on the unit sphere, turning by about
+  // 0.02 rad from facet to facet: a chord sags by 8e-5.
   const SurfaceMesh fine = test::build(test::icosphere(5));
-  auto iso = [&](double h) {
-    return MetricField(static_cast<std::size_t>(fine.vertex_capacity()), isotropic_metric(h));
+  auto iso = [](const SurfaceMesh& m, double h) {
+    return MetricField(static_cast<std::size_t>(m.vertex_capacity()), isotropic_metric(h));
   };
   using remesh::SurfaceKind;
-  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(0.3)) == SurfaceKind::Polyhedral);
-  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(0.05)) == SurfaceKind::G1);
+  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.3)) == SurfaceKind::Polyhedral);
+  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.01)) == SurfaceKind::Polyhedral);
+  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.001)) == SurfaceKind::G1);
+  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.3), 1e-4) == SurfaceKind::G1);
+  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.3), 1e-3) == SurfaceKind::Polyhedral);
   CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, MetricField{}) == SurfaceKind::G1);
-  CHECK(remesh::resolve_surface(SurfaceKind::G1, fine, iso(0.3)) == SurfaceKind::G1);
-  CHECK(remesh::resolve_surface(SurfaceKind::Polyhedral, fine, iso(0.05)) == SurfaceKind::Polyhedral);
-  // One edge of the input longer than half the size asked at it: G1.
-  MetricField local = iso(0.3);
-  local[0] = isotropic_metric(0.05);
+  CHECK(remesh::resolve_surface(SurfaceKind::G1, fine, iso(fine, 0.3)) == SurfaceKind::G1);
+  CHECK(remesh::resolve_surface(SurfaceKind::Polyhedral, fine, iso(fine, 0.001)) == SurfaceKind::Polyhedral);
+  // One vertex asking for a size far below its edges: G1.
+  MetricField local = iso(fine, 0.3);
+  local[0] = isotropic_metric(0.001);
   CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, local) == SurfaceKind::G1);
+  // A coarse sphere (edges of 0.5, facets turning by 0.4 rad) refined: G1.
+  const SurfaceMesh coarse = test::build(test::icosphere(1));
+  CHECK(remesh::resolve_surface(SurfaceKind::Auto, coarse, iso(coarse, 0.1)) == SurfaceKind::G1);
+  // A flat grid (its corners tagged as adapt() tags them): polyhedral at any size.
+  SurfaceMesh flat = test::build(test::square_grid(4));
+  detect_features(flat, FeatureOptions{});
+  CHECK(remesh::resolve_surface(SurfaceKind::Auto, flat, iso(flat, 1e-4)) == SurfaceKind::Polyhedral);
 
   // The coarsening runs on the facets, stays on the sphere and in band.
   remesh::AdaptOptions o;

@@ -256,10 +256,17 @@ TEST_CASE("editor window on the Falcon: the slowest frame while a curvature metr
   const double slowest = std::stod(found[1][3]);
   MESSAGE("falcon, nothing to do: " << found[0][1] << " frames, mean " << idle_mean << " ms, slowest " << found[0][3] << " ms");
   MESSAGE("falcon, the actions: " << frames << " frames, mean " << found[1][2] << " ms, slowest " << slowest << " ms");
+  // The pass's own duration (a pass shorter than about two frames may run
+  // between two of them: nothing to see then).
+  std::smatch pass_time;
+  const bool timed = std::regex_search(err, pass_time, std::regex(R"(its pass ([0-9.]+) s)"));
+  const double pass_ms = timed ? 1000 * std::stod(pass_time[1].str()) : INFINITY;
+  const double mean_ms = std::stod(found[1][2]);
   for (const char* what : {"a metric is built", "a pass runs", "the G1 surface is built"}) {
     std::smatch w;
     const bool seen = std::regex_search(err, w, std::regex(std::string("while ") + what + R"(: (\d+) frames, slowest ([0-9.]+) ms)"));
-    CHECK_MESSAGE(seen, "no frame drawn while " << what);
+    const bool too_short = std::string(what) == "a pass runs" && pass_ms < 2 * mean_ms;
+    CHECK_MESSAGE((seen || too_short), "no frame drawn while " << what);
     const std::string line = seen ? std::string("while ") + what + ": " + w[1].str() + " frames, slowest " + w[2].str() + " ms" : "";
     if (seen) MESSAGE(line);
   }

@@ -124,7 +124,14 @@ void Adaptation::start(std::size_t from, int max_passes) {
 
 void Adaptation::rebuild_from(const Snapshot& s) {
   if (!geometry_) {
-    geometry_ = geometry_future_.valid() ? geometry_future_.get() : start_geometry(input_, settings_).get();
+    // Auto as anisurf adapt resolves it, on T_G's own metric; the surface
+    // started in the background (G1) otherwise.
+    if (settings_.surface == remesh::SurfaceKind::Auto && t0_is_geometry_ &&
+        remesh::resolve_surface(settings_.surface, input_, metric_, settings_.metric.hausd) ==
+            remesh::SurfaceKind::Polyhedral)
+      geometry_ = remesh::make_geometry(input_, remesh::SurfaceKind::Polyhedral);
+    else
+      geometry_ = geometry_future_.valid() ? geometry_future_.get() : start_geometry(input_, settings_).get();
     control_ = remesh::make_control(input_, metric_, t0_is_geometry_, settings_);
   }
   remesher_.reset();

@@ -93,6 +93,8 @@ class Adaptation {
   void wait();
   // Passes run or are about to (not a prepare() alone).
   bool running() const { return passes_; }
+  // The surface the passes ran on (null before the first pass).
+  std::shared_ptr<remesh::GeometrySurface> geometry() const { return geometry_; }
   // The worker is alive (passes or a prepare()).
   bool working() const { return running_; }
   // Drops the snapshots after `keep` (worker idle).

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <future>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -726,6 +727,13 @@ int EditorSession::next_cycle() {
     recipe.given = std::move(carried);
   }
   MetricField m = build_metric(*t1, recipe).metric;
+  // The next cycles project onto the surface the first one ran on (its
+  // `auto` choice), as anisurf adapt --cycles does.
+  if (!geometry_mesh_ && adaptation_ && adaptation_->geometry()) {
+    std::promise<std::shared_ptr<remesh::GeometrySurface>> ran_on;
+    ran_on.set_value(adaptation_->geometry());
+    geometry_ = ran_on.get_future().share();
+  }
   retire_adaptation();
   wait_retired();
   forget_metric_jobs();  // a build reads the old T_0

@@ -206,17 +206,18 @@ void check_options(const AdaptOptions& options);
 // The surface T_1 is kept on, over `tg` (features tagged; outlives it).
 // The surface T_1 lies on (Auto: G1).
 std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKind kind);
-// Auto resolved for T_G and the metric at its vertices (T_G is T_0; empty
-// `metric`: G1): Polyhedral when every edge of T_G is at most
-// kFineGeometryLength long in the metric at both its ends. The G1 surface of
-// such a T_G lies within |e| theta / 8 <= 0.06 h of its facets even where
-// they turn by 60 degrees, about the distance InputBound allows (0.05 h):
-// the patches, frames and their memory (330 bytes a triangle) would change
-// nothing measurable (a 500k-triangle sphere coarsened to 7k triangles:
-// surface setup 9.5 -> 2.4 s, peak memory 360 -> 203 MB). Other kinds as
-// given.
-inline constexpr double kFineGeometryLength = 0.5;
-SurfaceKind resolve_surface(SurfaceKind kind, const SurfaceMesh& tg, const MetricField& metric);
+// Auto resolved for T_G, the metric at its vertices (T_G is T_0; empty
+// `metric`: G1) and the chordal deviation hausd (0: none): Polyhedral when
+// the G1 surface would lie about as close to T_G's facets as InputBound lets
+// a vertex stray from it anyway, at every edge e of T_G: its sagitta
+// |e| theta / 8 (theta: the dihedral angle at e, or on a feature curve the
+// curve's turn at its ends) at most kFineGeometrySag times the size the
+// metric asks along e, and at most InputBound's 0.2 hausd. The patches,
+// frames and their memory (330 bytes a triangle) would then change nothing
+// measurable (a 500k-triangle sphere coarsened to 7k triangles: surface
+// setup 9.5 -> 2.4 s, peak memory 360 -> 203 MB). Other kinds as given.
+inline constexpr double kFineGeometrySag = 0.05;
+SurfaceKind resolve_surface(SurfaceKind kind, const SurfaceMesh& tg, const MetricField& metric, double hausd = 0);
 
 // The control space of T_0 with `metric` as the options say (interpolation).
 std::unique_ptr<ControlSpace> make_control(const SurfaceMesh& t0, MetricField metric, bool t0_is_geometry,
