@@ -85,14 +85,20 @@ std::pair<double, double> band_share(const SurfaceMesh& out, double h) {
   return {n ? static_cast<double>(in_band) / n : 0.0, longest};
 }
 
+// The pipeline's options for the isotropic size h (the size protection on).
+remesh::AdaptOptions iso_options(double h) {
+  remesh::AdaptOptions o;
+  o.metric.source = MetricRecipe::Source::Iso;
+  o.metric.iso = h;
+  return o;
+}
+
 // `in` adapted to the isotropic size diagonal / `divisions`: valid, within
 // 0.5% of the diagonal of the input, every sharp edge kept within h/4, at
 // least `min_band` of the edges in band and none longer than 2.
 void check_adapted_iso(const SurfaceMesh& in, double divisions, double min_band) {
   const double diagonal = in.bbox().diagonal(), h = diagonal / divisions;
-  remesh::AdaptOptions o;
-  o.metric.source = MetricRecipe::Source::Iso;
-  o.metric.iso = h;
+  remesh::AdaptOptions o = iso_options(h);
   const remesh::AdaptResult r = remesh::adapt({in}, o);
   REQUIRE(r.mesh.validate().ok());
   CHECK(max_distance_to_input(r.mesh, in) <= 0.005 * diagonal);
@@ -237,9 +243,7 @@ TEST_CASE("fidelity: the chamfer cube's corner blends are ridges and its faces s
   for (Corner c : tagged.edges())
     if (tagged.opposite(c).is_valid() && dihedral_deg(tagged, c) > 30) CHECK(tagged.has_tag(c, kRidge));
   const double h = in.bbox().diagonal() / 60;
-  remesh::AdaptOptions o;
-  o.metric.source = MetricRecipe::Source::Iso;
-  o.metric.iso = h;
+  remesh::AdaptOptions o = iso_options(h);
   const remesh::AdaptResult r = remesh::adapt({in}, o);
   REQUIRE(r.mesh.validate().ok());
   CHECK(max_distance_to_input(r.mesh, in) <= 1e-3 * h);
@@ -346,9 +350,7 @@ TEST_CASE("fidelity: a coarse statue with folds keeps no degenerate triangle and
   ANISURF_REQUIRE_SHARED(path, "meshes/thinker.mesh");
   const SurfaceMesh in = load_mesh(path);
   const double h = in.bbox().diagonal() / 60;
-  remesh::AdaptOptions o;
-  o.metric.source = MetricRecipe::Source::Iso;
-  o.metric.iso = h;
+  remesh::AdaptOptions o = iso_options(h);
   const remesh::AdaptResult r = remesh::adapt({in}, o);
   REQUIRE(r.mesh.validate().ok());
   int degenerate = 0;
@@ -374,9 +376,7 @@ TEST_CASE("fidelity: an isotropic size wider than a rounded tip keeps its size a
   ANISURF_REQUIRE_SHARED(path, "meshes/featuretype.STL");
   const SurfaceMesh in = load_mesh(path);
   const double diagonal = in.bbox().diagonal(), h = diagonal / 60;
-  remesh::AdaptOptions o;
-  o.metric.source = MetricRecipe::Source::Iso;
-  o.metric.iso = h;
+  remesh::AdaptOptions o = iso_options(h);
   remesh::AdaptOptions unprotected = o;
   unprotected.protect_fraction = 0;  // what --hausd 0 sets
 
