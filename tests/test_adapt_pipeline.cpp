@@ -226,7 +226,7 @@ TEST_CASE("anisurf adapt --weld: a triangle soup in any format adapts as one sur
   CHECK(status == 2);  // a usage error
 }
 
-TEST_CASE("adapt surface auto: polyhedral where the G1 surface would lie within 0.05 h of the facets, G1 otherwise") {
+TEST_CASE("adapt surface auto: polyhedral for a coarsening whose G1 surface would lie within 0.05 h of the facets") {
   // icosphere(5): edges of about 0.033 on the unit sphere, turning by about
   // 0.02 rad from facet to facet: a chord sags by 8e-5.
   const SurfaceMesh fine = test::build(test::icosphere(5));
@@ -235,24 +235,25 @@ TEST_CASE("adapt surface auto: polyhedral where the G1 surface would lie within 
   };
   using remesh::SurfaceKind;
   CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.3)) == SurfaceKind::Polyhedral);
-  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.01)) == SurfaceKind::Polyhedral);
-  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.001)) == SurfaceKind::G1);
+  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.06)) == SurfaceKind::Polyhedral);
+  // A refinement is rebuilt on the smooth surface, however flat the facets.
+  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.01)) == SurfaceKind::G1);
   CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.3), 1e-4) == SurfaceKind::G1);
   CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.3), 1e-3) == SurfaceKind::Polyhedral);
   CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, MetricField{}) == SurfaceKind::G1);
   CHECK(remesh::resolve_surface(SurfaceKind::G1, fine, iso(fine, 0.3)) == SurfaceKind::G1);
   CHECK(remesh::resolve_surface(SurfaceKind::Polyhedral, fine, iso(fine, 0.001)) == SurfaceKind::Polyhedral);
-  // One vertex asking for a size far below its edges: G1.
+  // One vertex asking for a size below its edges: G1.
   MetricField local = iso(fine, 0.3);
-  local[0] = isotropic_metric(0.001);
+  local[0] = isotropic_metric(0.01);
   CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, local) == SurfaceKind::G1);
   // A coarse sphere (edges of 0.5, facets turning by 0.4 rad) refined: G1.
   const SurfaceMesh coarse = test::build(test::icosphere(1));
   CHECK(remesh::resolve_surface(SurfaceKind::Auto, coarse, iso(coarse, 0.1)) == SurfaceKind::G1);
-  // A flat grid (its corners tagged as adapt() tags them): polyhedral at any size.
+  // A flat grid (its corners tagged as adapt() tags them) coarsened: polyhedral.
   SurfaceMesh flat = test::build(test::square_grid(4));
   detect_features(flat, FeatureOptions{});
-  CHECK(remesh::resolve_surface(SurfaceKind::Auto, flat, iso(flat, 1e-4)) == SurfaceKind::Polyhedral);
+  CHECK(remesh::resolve_surface(SurfaceKind::Auto, flat, iso(flat, 0.5)) == SurfaceKind::Polyhedral);
 
   // The coarsening runs on the facets, stays on the sphere and in band.
   remesh::AdaptOptions o;

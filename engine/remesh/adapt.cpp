@@ -272,7 +272,8 @@ SurfaceKind resolve_surface(SurfaceKind kind, const SurfaceMesh& tg, const Metri
                              ? std::max(turn[a.idx], turn[b.idx])
                              : dihedral_angle(tg, c);
     const double l = std::max(metric_length(metric[a.idx], e), metric_length(metric[b.idx], e));
-    if (!(l * theta / 8 <= kFineGeometrySag) || !(norm(e) * theta / 8 <= abs_bound)) return SurfaceKind::G1;
+    if (!(l <= 1) || !(l * theta / 8 <= kFineGeometrySag) || !(norm(e) * theta / 8 <= abs_bound))
+      return SurfaceKind::G1;
   }
   return SurfaceKind::Polyhedral;
 }

@@ -208,8 +208,11 @@ void check_options(const AdaptOptions& options);
 std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKind kind);
 // Auto resolved for T_G, the metric at its vertices (T_G is T_0; empty
 // `metric`: G1) and the chordal deviation hausd (0: none): Polyhedral when
-// the G1 surface would lie about as close to T_G's facets as InputBound lets
-// a vertex stray from it anyway, at every edge e of T_G: its sagitta
+// the metric refines no edge of T_G (each at most 1 long in it: a
+// coarsening, whose vertices are mostly T_G's own; a refinement is rebuilt
+// on the smooth surface) and the G1 surface would lie about as close to
+// T_G's facets as InputBound lets a vertex stray from it anyway, at every
+// edge e of T_G: its sagitta
 // |e| theta / 8 (theta: the dihedral angle at e, or on a feature curve the
 // curve's turn at its ends) at most kFineGeometrySag times the size the
 // metric asks along e, and at most InputBound's 0.2 hausd. The patches,

@@ -238,7 +238,8 @@ Remeshing: lmin=0.72, lmax=1.4, ridge_angle=45 (--ar), detect_ridges=True
   (False: --nr), curve_turn=25, curve_sag=0.1, free_surface=False, rounds=30,
   relax=0, cycles=1, fixed_point=0.02, max_memory=0 (MB), length='linear' |
   'log', interpolation='size' | 'linear' | 'inverse' | 'log', surface='auto'
-  (g1, or polyhedral where it lies within 0.05 h of the facets) | 'g1' |
+  (g1, or polyhedral for a coarsening whose G1 surface lies within 0.05 h
+  of the facets) | 'g1' |
   'g1-closest' | 'polyhedral', weld=None (merge vertices within weld x the
   bounding-box diagonal), geometry=None (a Mesh or (vertices, triangles): the
   surface to project onto), measure_every_pass=False (report every pass's
