@@ -42,11 +42,25 @@ SymTensor3 to_interpolation_space(const SymTensor3& M, MetricInterpolation how) 
   return M;
 }
 
+namespace {
+
+// Y Y for a symmetric Y.
+SymTensor3 symmetric_square(const SymTensor3& Y) {
+  SymTensor3 out;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j <= i; ++j) out(j, i) = Y(i, 0) * Y(0, j) + Y(i, 1) * Y(1, j) + Y(i, 2) * Y(2, j);
+  return out;
+}
+
+}  // namespace
+
 SymTensor3 from_interpolation_space(const SymTensor3& X, MetricInterpolation how) {
   switch (how) {
     case MetricInterpolation::Linear: return X;
     case MetricInterpolation::Inverse: return inverse(X);
-    case MetricInterpolation::LinearSize: return tensor_power(X, -2.0);
+    // X^-2 as (X^-1)^2: no eigen-decomposition (the metric lookups of every
+    // operator go through here).
+    case MetricInterpolation::LinearSize: return symmetric_square(inverse(X));
     case MetricInterpolation::LogEuclidean: return tensor_exp(X);
   }
   return X;

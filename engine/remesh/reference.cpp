@@ -118,13 +118,18 @@ MetricField ControlSpace::metric() const { return from_space(in_use(), interpola
 MetricField ControlSpace::target_metric() const { return from_space(*target_, interpolation_); }
 
 double ControlSpace::target_complexity() const {
-  return metric_complexity(mesh_, [this](Vertex v) { return from_interpolation_space((*target_)[v.idx], interpolation_); });
+  std::call_once(complexity_->once, [this] {
+    complexity_->value =
+        metric_complexity(mesh_, [this](Vertex v) { return from_interpolation_space((*target_)[v.idx], interpolation_); });
+  });
+  return complexity_->value;
 }
 
 ControlSpace::ControlSpace(const ControlSpace& o)
     : mesh_(o.mesh_),
       interpolation_(o.interpolation_),
       target_(o.target_),
+      complexity_(o.complexity_),
       relaxed_(o.relaxed_),
       implied_(o.implied_),
       locator_(o.locator_ ? std::make_unique<Locator>(*o.locator_) : nullptr),

@@ -10,6 +10,7 @@
 // Both keep one search structure each (section 4) and answer from hints.
 #pragma once
 #include <memory>
+#include <mutex>
 #include <span>
 #include <string>
 #include <vector>
@@ -128,7 +129,9 @@ class ControlSpace {
   // the target at T_0's vertex slots, rebuilt from the stored form.
   MetricField metric() const;
   MetricField target_metric() const;
-  // metric_complexity of the target on T_0, without a copy of the field.
+  // metric_complexity of the target on T_0, without a copy of the field;
+  // computed once for this space and its copies (every Remesher, one a
+  // region, asks for it).
   double target_complexity() const;
 
   // Remark 6: the metric in use becomes the log-Euclidean interpolation
@@ -152,6 +155,11 @@ class ControlSpace {
   const MetricField& in_use() const { return relaxed_.empty() ? *target_ : relaxed_; }
   MetricInterpolation interpolation_;
   std::shared_ptr<const MetricField> target_;  // shared with the copies for other threads
+  struct Complexity {
+    std::once_flag once;
+    double value = 0;
+  };
+  std::shared_ptr<Complexity> complexity_ = std::make_shared<Complexity>();  // of target_, shared with the copies
   MetricField relaxed_;  // the metric in use while relaxed (empty otherwise: the target, not copied)
   MetricField implied_;  // M_0 of set_relaxation (a metric), computed on first use
   std::unique_ptr<Locator> locator_;  // null when T_0 is T_G
