@@ -5,8 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <limits>
-#include <numbers>
-#include <utility>
 #include <vector>
 #include <string>
 
@@ -226,35 +224,20 @@ std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKin
 
 namespace {
 
-// The angle (radians) between the unit normals of the triangles of edge c.
+// The angle (radians) between the normals of the triangles of edge c.
 double dihedral_angle(const SurfaceMesh& m, Corner c) {
-  const Vec3 a = normalized(m.triangle_normal(SurfaceMesh::triangle(c)));
-  const Vec3 b = normalized(m.triangle_normal(SurfaceMesh::triangle(m.opposite(c))));
+  const Vec3 a = m.triangle_normal(SurfaceMesh::triangle(c));
+  const Vec3 b = m.triangle_normal(SurfaceMesh::triangle(m.opposite(c)));
   return std::atan2(norm(cross(a, b)), dot(a, b));
 }
 
-// Per vertex slot: the turn (radians) of the feature curve through it where
-// exactly two feature edges meet at a vertex that is no corner, else 0 (a
-// corner ends its curves).
-std::vector<double> feature_turns(const SurfaceMesh& m) {
-  std::vector<std::array<int, 2>> ends(static_cast<std::size_t>(m.vertex_capacity()), {-1, -1});
-  std::vector<int> count(ends.size(), 0);
-  for (Corner c : m.edges()) {
-    if (!is_feature_edge(m, c)) continue;
-    const Vertex a = m.edge_from(c), b = m.edge_to(c);
-    for (auto [v, w] : {std::pair{a, b}, std::pair{b, a}}) {
-      if (count[v.idx] < 2) ends[v.idx][count[v.idx]] = w.idx;
-      ++count[v.idx];
-    }
-  }
-  std::vector<double> turn(ends.size(), 0.0);
-  for (Vertex v : m.vertices()) {
-    if (count[v.idx] != 2 || m.has_tag(v, kCorner) || m.has_tag(v, kRequired)) continue;
-    const Vec3 p = m.position(v);
-    const Vec3 u = m.position(Vertex(ends[v.idx][0])) - p, w = m.position(Vertex(ends[v.idx][1])) - p;
-    turn[v.idx] = std::numbers::pi - std::atan2(norm(cross(u, w)), dot(u, w));
-  }
-  return turn;
+// The turn of the feature curve through v (curve_turn) where exactly two
+// feature edges meet at a vertex that is no corner, else 0 (a corner ends
+// its curves).
+double regular_curve_turn(const SurfaceMesh& m, Vertex v) {
+  if (m.has_tag(v, kCorner) || m.has_tag(v, kRequired)) return 0;
+  const std::vector<FeatureEdgeAt> f = feature_edges_at(m, v);
+  return f.size() == 2 ? curve_turn(m, v, f[0], f[1]) : 0;
 }
 
 }  // namespace
@@ -263,13 +246,12 @@ SurfaceKind resolve_surface(SurfaceKind kind, const SurfaceMesh& tg, const Metri
   if (kind != SurfaceKind::Auto) return kind;
   if (metric.size() != static_cast<std::size_t>(tg.vertex_capacity()) || tg.n_triangles() == 0)
     return SurfaceKind::G1;
-  const std::vector<double> turn = feature_turns(tg);
   const double abs_bound = hausd > 0 ? 0.2 * hausd : std::numeric_limits<double>::infinity();
   for (Corner c : tg.edges()) {
     const Vertex a = tg.edge_from(c), b = tg.edge_to(c);
     const Vec3 e = tg.position(b) - tg.position(a);
     const double theta = is_feature_edge(tg, c) || !tg.opposite(c).is_valid()
-                             ? std::max(turn[a.idx], turn[b.idx])
+                             ? std::max(regular_curve_turn(tg, a), regular_curve_turn(tg, b))
                              : dihedral_angle(tg, c);
     const double l = std::max(metric_length(metric[a.idx], e), metric_length(metric[b.idx], e));
     if (!(l <= 1) || !(l * theta / 8 <= kFineGeometrySag) || !(norm(e) * theta / 8 <= abs_bound))
