@@ -35,16 +35,14 @@ double angle_between(const Vec3& a, const Vec3& b) {
   return std::atan2(norm(cross(a, b)), dot(a, b));
 }
 
-// True if t's normal is numerically meaningful: its area is not negligible
-// against its longest edge squared.
+}  // namespace
+
 bool has_reliable_normal(const SurfaceMesh& mesh, Triangle t, double area_ratio) {
   double longest2 = 0;
   for (int k = 0; k < 3; ++k)
     longest2 = std::max(longest2, norm2(mesh.position(mesh.vertex(t, (k + 1) % 3)) - mesh.position(mesh.vertex(t, k))));
   return 0.5 * norm(mesh.triangle_normal(t)) > area_ratio * longest2;
 }
-
-}  // namespace
 
 std::vector<FeatureEdgeAt> feature_edges_at(const SurfaceMesh& mesh, Vertex v) {
   std::vector<FeatureEdgeAt> out;

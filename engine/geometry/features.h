@@ -80,6 +80,11 @@ std::vector<FeatureEdgeAt> feature_edges_at(const SurfaceMesh& mesh, Vertex v);
 // side on a ridge; one per face at a corner). Empty for an isolated vertex.
 std::vector<std::vector<Corner>> smooth_sectors(const SurfaceMesh& mesh, Vertex v);
 
+// True if t's normal is numerically meaningful: its area is above
+// area_ratio times its longest edge squared (a sliver's normal is rounding
+// noise or says nothing of the surface).
+bool has_reliable_normal(const SurfaceMesh& mesh, Triangle t, double area_ratio);
+
 // How far a feature curve turns at v between its edges a and b (0 = straight
 // on, pi = folding back), in radians.
 double curve_turn(const SurfaceMesh& mesh, Vertex v, const FeatureEdgeAt& a, const FeatureEdgeAt& b);

@@ -110,11 +110,9 @@ Rejection check_surface_side(AdaptedMesh& m, const std::array<Vec3, 3>& x, const
 // else of its neighbours' normals (area-weighted), else zero (no reference).
 Vec3 reference_normal(const AdaptedMesh& m, Triangle t) {
   const SurfaceMesh& mesh = m.mesh();
-  const Vec3 n = mesh.triangle_normal(t);
+  // Area above half the height fraction times the longest edge squared.
+  if (has_reliable_normal(mesh, t, 0.5 * kDegenerateHeight)) return normalized(mesh.triangle_normal(t));
   const int* v = mesh.triangle_vertices(t);
-  const Vec3 &a = mesh.position(Vertex(v[0])), &b = mesh.position(Vertex(v[1])), &c = mesh.position(Vertex(v[2]));
-  const double len2 = std::max({norm2(b - a), norm2(c - b), norm2(a - c)});
-  if (norm2(n) > kDegenerateHeight * kDegenerateHeight * len2 * len2) return normalized(n);
   Vec3 sum;
   for (int k = 0; k < 3; ++k) sum += m.surface_normal(Vertex(v[k]));
   if (norm2(sum) > 0) return normalized(sum);
