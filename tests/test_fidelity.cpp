@@ -367,6 +367,29 @@ TEST_CASE("fidelity: a coarse statue with folds keeps no degenerate triangle and
   CHECK(longest < 10);
 }
 
+TEST_CASE("fidelity: a coarse scan refined to diagonal/150 splits every long input edge and stays in band") {
+  // bunny.off at diagonal / 150 (input edges up to 12.6 h, fans turning by
+  // tens of degrees). The frames' consistency step turned 634 of its 3667
+  // sector normals by more than 30 degrees; the triangles beside the input
+  // edges at those vertices then faced 77 degrees away from the surface
+  // normal, every split of those edges was refused and edges of 3.8 h were
+  // left (95.1% in band).
+  ANISURF_REQUIRE_SHARED(path, "meshes/bunny.off");
+  const SurfaceMesh in = load_mesh(path);
+  const double h = in.bbox().diagonal() / 150;
+  const remesh::AdaptResult r = remesh::adapt({in}, iso_options(h));
+  REQUIRE(r.mesh.validate().ok());
+  const auto [share, longest] = band_share(r.mesh, h);
+  double shortest = INFINITY;
+  for (Corner c : r.mesh.edges())
+    shortest = std::min(shortest, norm(r.mesh.position(r.mesh.edge_to(c)) - r.mesh.position(r.mesh.edge_from(c))) / h);
+  MESSAGE("bunny at diagonal/150: edges from " << shortest << " to " << longest << " h, " << 100 * share
+                                                << "% in band");
+  CHECK(shortest > 1e-3);  // no split point drawn onto a vertex already there
+  CHECK(longest <= 2.0);
+  CHECK(share >= 0.97);
+}
+
 TEST_CASE("fidelity: an isotropic size wider than a rounded tip keeps its size and no chord cuts across the tip") {
   // featuretype.STL at diagonal / 60: a tongue 0.19 high whose end is a half
   // circle of radius about 0.05, half the size. Without the size protection a

@@ -563,6 +563,22 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
       }
     }
   }
+  // 3a. the consistency holds to third order in the edge length: where the
+  // mesh is coarse for its curvature (a scan's fans turning by tens of
+  // degrees) it asks for turns the surface does not have. A sector normal
+  // stays within max_mirror_turn_deg of its estimate.
+  if (options.mirror_iterations > 0) {
+    const double cap = options.max_mirror_turn_deg * kDeg;
+    for (std::size_t i = 0; i < movable.size(); ++i) {
+      Vec3& n = f.sector_normal_[movable[i]];
+      const Vec3& e = estimate[i];
+      if (!(angle_of(e, n) > cap)) continue;
+      const Vec3 away = n - dot(n, e) * e;  // in the plane of e and n: normal to a curve axis when both are
+      if (!(norm(away) > 0)) continue;
+      n = normalized(std::cos(cap) * e + std::sin(cap) * normalized(away));
+      ++f.mirror_capped;
+    }
+  }
   // 3b. a sector normal must see every triangle of its sector (else the patch
   // folds there): on noisy fans, tilt it towards the triangles it sees worst.
   const double min_cos = std::cos(options.max_tilt_deg * kDeg);
@@ -726,6 +742,10 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
         for (const End& en : ends)
           if (en.s1 == s || en.s2 == s) ts.push_back(f.tangent(en.e.idx, en.from ? 0 : 1));
         planes[i] = plane_containing(ts, f.sector_normal_[s]);
+        // Nearly collinear tangents leave the plane to the estimate, which
+        // then holds them only approximately: the tangents follow the planes.
+        for (const Vec3& t : ts)
+          if (std::fabs(dot(planes[i], t)) > 1e-9) all_see = false;
         for (Corner c : mesh.fan_corners(vh))
           if (f.corner_sector_[c.idx] == s &&
               dot(planes[i], normalized(mesh.triangle_normal(SurfaceMesh::triangle(c)))) < min_cos)

@@ -40,6 +40,10 @@ struct NormalOptions {
   // where fits are biased.
   int mirror_iterations = 2;
   double mirror_anchor = 1e-3;
+  // The consistency turns a sector normal at most this far from its
+  // estimate (the condition is exact only where the edges are short for the
+  // curvature; on coarse scans it would turn normals by 30-60 degrees).
+  double max_mirror_turn_deg = 10.0;
   // Use the file's NormalAtVertices (vertex properties "normal"/"has_normal")
   // at vertices with a single sector.
   bool use_file_normals = true;
@@ -108,6 +112,7 @@ class SurfaceFrames {
   }
   // How each sector normal was obtained (counts over sectors).
   int fitted = 0, angle_weighted = 0, from_file = 0, constrained = 0;
+  int mirror_capped = 0;  // sectors whose consistency turn was capped (max_mirror_turn_deg)
   int tilted = 0;    // sectors tilted to see all their triangles
   int unfolded = 0;  // sectors turned about their curve tangent to unfold thin triangles
 

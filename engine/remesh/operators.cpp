@@ -239,12 +239,16 @@ Vec3 split_point(const AdaptedMesh& m, Vertex b, Vertex d, const OperatorOptions
 // each replaces.
 Rejection check_halves(const AdaptedMesh& m, Corner c, const Vec3& x, const Vec3& surface_n, const Limits& lim) {
   const SurfaceMesh& mesh = m.mesh();
-  // The point halves the edge: within a tenth of its length of an end it
-  // would only add a needle (a projection or T_G's closest point drawn to
-  // a point already taken, such as a fold of the input).
+  // The point halves the edge: within a tenth of its length of an end, or
+  // of a vertex opposite the edge, it would only add a needle or a cap (a
+  // projection or T_G's closest point drawn to a point already taken: a
+  // fold of the input, or the closest points of a bulge all on one input
+  // edge).
   const Vec3 &pb = mesh.position(mesh.edge_from(c)), &pd = mesh.position(mesh.edge_to(c));
   const double end2 = 0.01 * norm2(pd - pb);
   if (!(norm2(x - pb) > end2) || !(norm2(x - pd) > end2)) return Rejection::Inversion;
+  for (Corner k : {c, mesh.opposite(c)})
+    if (k.is_valid() && !(norm2(x - mesh.position(mesh.vertex(k))) > end2)) return Rejection::Inversion;
   for (Corner k : {c, mesh.opposite(c)}) {
     if (!k.is_valid()) continue;
     const Triangle t = M::triangle(k);

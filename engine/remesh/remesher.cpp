@@ -529,7 +529,9 @@ void Remesher::bound_distance(PassReport& r) {
         refuse(r, PassKind::Final, plan.why);
         continue;
       }
-      apply(r, c, plan, false);
+      // The halves of a chord split onto the input are often thin: the swaps
+      // around the new vertex that improve quality (eq. 17) follow.
+      local_swaps(apply(r, c, plan, false), r);
       ++splits;
     }
     r.bound_splits += splits;
