@@ -5,6 +5,7 @@
 #include <deque>
 
 #include "geometry/features.h"
+#include "locate/closest_point.h"
 #include "mesh/operators.h"
 #include "metric/quality.h"
 
@@ -139,13 +140,25 @@ AdaptedMesh::InputDistance AdaptedMesh::distance_to_input(const Vec3& x, std::in
   std::size_t n = 0;
   for (Vertex v : near)
     if (n < hg.size() && hint_g_[v].is_valid()) hg[n++] = hint_g_[v];
-  const Projection pr = geometry_.project(x, std::span<const Hint>(hg.data(), n), Constraint::Free);
+  const Location at = geometry_.closest_on_input(x, std::span<const Hint>(hg.data(), n));
   InputDistance out;
-  out.distance = norm(x - (pr.location.is_valid() ? pr.location.point : pr.point));
-  const Triangle t = pr.location.triangle;
+  out.distance = at.is_valid() ? norm(x - at.point) : 0.0;
+  const Triangle t = at.triangle;
   if (bound_.enabled && t.is_valid() && static_cast<std::size_t>(t.idx) < sagitta_->size())
     out.natural = bound_.natural_factor * (*sagitta_)[static_cast<std::size_t>(t.idx)];
   return out;
+}
+
+double AdaptedMesh::distance_to_hinted_input(const Vec3& x, std::initializer_list<Vertex> near) const {
+  const SurfaceMesh& g = geometry_.mesh();
+  double d2 = INFINITY;
+  for (Vertex v : near) {
+    const Triangle t = hint_g_[v].triangle;
+    if (!t.is_valid() || g.is_deleted(t)) continue;
+    const int* w = g.triangle_vertices(t);
+    d2 = std::min(d2, point_triangle_distance2(x, g.position(Vertex(w[0])), g.position(Vertex(w[1])), g.position(Vertex(w[2]))));
+  }
+  return std::sqrt(d2);
 }
 
 double AdaptedMesh::input_tolerance(Triangle t, const SymTensor3& M) const {

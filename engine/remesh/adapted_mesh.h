@@ -136,6 +136,10 @@ class AdaptedMesh {
     double natural = 0;
   };
   InputDistance distance_to_input(const Vec3& x, std::initializer_list<Vertex> near);
+  // An upper bound of x's distance to T_G without a search: the distance to
+  // the nearest of the triangles hinting the vertices `near` (INFINITY
+  // without a hint).
+  double distance_to_hinted_input(const Vec3& x, std::initializer_list<Vertex> near) const;
   // The largest distance the bound allows from T_G at a point of T_G's
   // triangle `t` where the metric is M (InputBound).
   double input_tolerance(Triangle t, const SymTensor3& M) const;

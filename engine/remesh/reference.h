@@ -39,6 +39,11 @@ class GeometrySurface {
   // Closest point of the surface to x under the constraint (section 4.2),
   // searched from the hints. Not const: searches use scratch marks.
   virtual Projection project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) = 0;
+  // The closest point of T_G's triangles to x, searched from the hints (the
+  // smooth surface is not evaluated): what a distance to the input measures.
+  Location closest_on_input(const Vec3& x, std::span<const Hint> hints) {
+    return locator().project(x, hints, Constraint::Free);
+  }
   // The polyhedral mesh T_G (tags: features, corners).
   virtual const SurfaceMesh& mesh() const = 0;
   virtual std::string name() const = 0;
@@ -50,6 +55,9 @@ class GeometrySurface {
   // (patches, search trees) and has its own search marks. Pre: this one
   // outlives the copy.
   virtual std::unique_ptr<GeometrySurface> copy_for_thread() const = 0;
+
+ protected:
+  virtual Locator& locator() = 0;
 };
 
 // T_G as it is: projection onto the triangles (locate/locator.h).
@@ -66,6 +74,7 @@ class PolyhedralSurface final : public GeometrySurface {
   }
 
  private:
+  Locator& locator() override { return locator_; }
   Locator locator_;
 };
 
@@ -92,6 +101,7 @@ class BezierGeometry final : public GeometrySurface {
 
  private:
   BezierGeometry(const BezierGeometry&) = default;  // shares the patches, copies the locator (own marks)
+  Locator& locator() override { return locator_; }
   // The surface first: the frames it is built from are freed before the
   // locator is built (the two do not add up at the peak memory). Shared
   // with the copies for other threads.

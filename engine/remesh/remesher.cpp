@@ -457,7 +457,7 @@ void Remesher::final_pass(PassReport& r) {
   if (!r.interrupted) bound_distance(r);
 }
 
-std::vector<Remesher::BeyondBound> Remesher::edges_beyond_bound() {
+std::vector<Remesher::BeyondBound> Remesher::edges_beyond_bound(const std::vector<Vertex>* around) {
   SurfaceMesh& mesh = mesh_.mesh();
   const double absolute = options_.distance_bound > 0 ? options_.distance_bound : INFINITY;
   const double relative = options_.relative_distance_bound;
@@ -474,8 +474,22 @@ std::vector<Remesher::BeyondBound> Remesher::edges_beyond_bound() {
   auto bound_at = [&](const AdaptedMesh::InputDistance& d, double relative_part) {
     return std::min(absolute, relative_part + d.natural);
   };
+  // The triangles to look at: all, or the fans of `around` (marked).
+  std::vector<char> chosen;
+  std::vector<Triangle> subset;
+  if (around) {
+    chosen.assign(static_cast<std::size_t>(mesh.triangle_capacity()), 0);
+    for (Vertex v : *around) {
+      if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+      for (Corner c : mesh.fan_corners(v)) {
+        const Triangle t = M::triangle(c);
+        if (!chosen[static_cast<std::size_t>(t.idx)]) subset.push_back(t);
+        chosen[static_cast<std::size_t>(t.idx)] = 1;
+      }
+    }
+  }
   std::vector<BeyondBound> out;
-  for (Triangle t : mesh.triangles()) {
+  auto check = [&](Triangle t) {
     const std::array<Vertex, 3> v = {mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2)};
     double relative_sum = 0;
     for (int k = 0; k < 3; ++k) {
@@ -483,22 +497,32 @@ std::vector<Remesher::BeyondBound> Remesher::edges_beyond_bound() {
       const Vertex u = mesh.edge_from(e), w = mesh.edge_to(e);
       const double rel = relative_bound(u, w);
       relative_sum += rel;
-      // Each edge at its canonical corner (the edge of corner k runs from
-      // vertex k + 1 to k + 2).
+      // Each edge once: at its canonical corner (the edge of corner k runs
+      // from vertex k + 1 to k + 2) when both its triangles are looked at.
       const Corner o = mesh.opposite(e);
-      if (o.is_valid() && o.idx < e.idx) continue;
-      const auto d = mesh_.distance_to_input(0.5 * (mesh.position(u) + mesh.position(w)), {u, w});
+      if (o.is_valid() && o.idx < e.idx && (!around || chosen[static_cast<std::size_t>(M::triangle(o).idx)])) continue;
+      const Vec3 mid = 0.5 * (mesh.position(u) + mesh.position(w));
+      // Within the bound's least value of a triangle of T_G near it: no search.
+      if (mesh_.distance_to_hinted_input(mid, {u, w}) <= std::min(absolute, rel)) continue;
+      const auto d = mesh_.distance_to_input(mid, {u, w});
       const double bound = bound_at(d, rel);
       if (d.distance > bound) out.push_back({d.distance, bound, u.idx, w.idx});
     }
     const Vec3 pa = mesh.position(v[0]), pb = mesh.position(v[1]), pc = mesh.position(v[2]);
-    const auto d = mesh_.distance_to_input((pa + pb + pc) / 3.0, {v[0], v[1], v[2]});
+    const Vec3 centroid = (pa + pb + pc) / 3.0;
+    if (mesh_.distance_to_hinted_input(centroid, {v[0], v[1], v[2]}) <= std::min(absolute, relative_sum / 3)) return;
+    const auto d = mesh_.distance_to_input(centroid, {v[0], v[1], v[2]});
     const double bound = bound_at(d, relative_sum / 3);
-    if (!(d.distance > bound)) continue;
+    if (!(d.distance > bound)) return;
     const double lab = norm2(pb - pa), lbc = norm2(pc - pb), lca = norm2(pa - pc);
     if (lab >= lbc && lab >= lca) out.push_back({d.distance, bound, v[0].idx, v[1].idx});
     else if (lbc >= lca) out.push_back({d.distance, bound, v[1].idx, v[2].idx});
     else out.push_back({d.distance, bound, v[2].idx, v[0].idx});
+  };
+  if (around) {
+    for (Triangle t : subset) check(t);
+  } else {
+    for (Triangle t : mesh.triangles()) check(t);
   }
   std::sort(out.begin(), out.end(), [](const BeyondBound& x, const BeyondBound& y) { return x.distance > y.distance; });
   return out;
@@ -511,16 +535,16 @@ void Remesher::bound_distance(PassReport& r) {
   // than max_bound_split_share of the mesh in splits is left as it is, with
   // the count of what stays beyond.
   const double budget = options_.max_bound_split_share * mesh.n_vertices();
+  // The first sweep looks at the whole mesh, the next ones at the triangles
+  // around the vertices the previous one added.
+  std::vector<Vertex> added;
+  int splits_in_all = 0;
   for (int sweep = 0; sweep < options_.bound_sweeps; ++sweep) {
-    const std::vector<BeyondBound> beyond = edges_beyond_bound();
-    r.beyond_bound = static_cast<int>(beyond.size());
-    int splits = 0;
+    const std::vector<BeyondBound> beyond = edges_beyond_bound(sweep == 0 ? nullptr : &added);
+    if (sweep == 0) r.beyond_bound = static_cast<int>(beyond.size());
+    added.clear();
     for (const BeyondBound& it : beyond) {
-      if (interrupted(r) || r.bound_splits + splits >= budget) {
-        r.bound_splits += splits;
-        r.beyond_bound = static_cast<int>(edges_beyond_bound().size());
-        return;
-      }
+      if (interrupted(r) || splits_in_all >= budget) break;
       // An edge split earlier in the sweep is gone (its halves wait for the next one).
       const Corner c = find_edge_corner(mesh, Vertex(it.a), Vertex(it.b));
       if (!c.is_valid()) continue;
@@ -531,13 +555,16 @@ void Remesher::bound_distance(PassReport& r) {
       }
       // The halves of a chord split onto the input are often thin: the swaps
       // around the new vertex that improve quality (eq. 17) follow.
-      local_swaps(apply(r, c, plan, false), r);
-      ++splits;
+      const Vertex k = apply(r, c, plan, false);
+      local_swaps(k, r);
+      added.push_back(k);
+      ++splits_in_all;
     }
-    r.bound_splits += splits;
-    if (splits == 0) return;
+    if (added.empty() || r.interrupted || splits_in_all >= budget) break;
   }
-  r.beyond_bound = static_cast<int>(edges_beyond_bound().size());
+  r.bound_splits += splits_in_all;
+  // What stays beyond the bound, over the whole mesh (for the report).
+  if (splits_in_all > 0) r.beyond_bound = static_cast<int>(edges_beyond_bound().size());
 }
 
 int Remesher::valence_swaps(PassReport& r) {

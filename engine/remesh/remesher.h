@@ -298,8 +298,10 @@ class Remesher {
     int a, b;
   };
   // The edges to split for the bound, the farthest first: those whose
-  // midpoint, and the longest of the triangles whose centroid, lies beyond it.
-  std::vector<BeyondBound> edges_beyond_bound();
+  // midpoint, and the longest of the triangles whose centroid, lies beyond it;
+  // over the whole mesh, or over the triangles around `around` (the
+  // vertices a sweep added: nothing else changed).
+  std::vector<BeyondBound> edges_beyond_bound(const std::vector<Vertex>* around = nullptr);
   // Swaps around v (its link edges) while they improve; returns the count.
   int local_swaps(Vertex v, PassReport& r);
   // Final pass: swaps of interior edges that bring the four vertices'
