@@ -41,8 +41,27 @@ struct Limits {
 
 // A triangle whose height is below this fraction of its longest edge is
 // degenerate: its normal is rounding noise or says nothing of the surface
-// (an input's slivers).
+// (an input's slivers). No operator creates one, except as the half of a
+// split triangle that already was one (kDegenerateFloor at least).
 constexpr double kDegenerateHeight = 1e-6;
+constexpr double kDegenerateFloor = 1e-12;
+
+// Height over longest edge of triangle (a, b, c).
+double height_ratio(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double len2 = std::max({norm2(b - a), norm2(c - b), norm2(a - c)});
+  return len2 > 0 ? norm(raw_normal(a, b, c)) / len2 : 0.0;
+}
+double height_ratio(const SurfaceMesh& mesh, Triangle t) {
+  const int* v = mesh.triangle_vertices(t);
+  return height_ratio(mesh.position(Vertex(v[0])), mesh.position(Vertex(v[1])), mesh.position(Vertex(v[2])));
+}
+
+// The least height ratio a triangle replacing one of ratio `old_ratio` may
+// have: kDegenerateHeight, or where the old one already was degenerate (a
+// sliver of the input, the halves of one) a quarter of it.
+double degenerate_limit(double old_ratio) {
+  return old_ratio >= kDegenerateHeight ? kDegenerateHeight : std::max(kDegenerateFloor, 0.25 * old_ratio);
+}
 
 // A new triangle (a, b, c) replacing one of unit normal `old_n` (zero: none
 // known): refused when degenerate, inverted or turned too far from old_n or
@@ -50,11 +69,12 @@ constexpr double kDegenerateHeight = 1e-6;
 // curves, corners). With `no_worse` (a split's halves), a corner's limit is
 // relaxed to what the replaced triangle already had.
 Rejection check_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& old_n,
-                         const std::array<Vec3, 3>& sn, const Limits& o, bool no_worse = false) {
+                         const std::array<Vec3, 3>& sn, const Limits& o, bool no_worse = false,
+                         double degenerate = kDegenerateHeight) {
   const Vec3 n = raw_normal(a, b, c);
   const double len2 = std::max({norm2(b - a), norm2(c - b), norm2(a - c)});
   const double area2 = norm(n);
-  if (!(area2 > 1e-12 * len2)) return Rejection::Inversion;
+  if (!(area2 > degenerate * len2)) return Rejection::Inversion;  // height / longest edge
   const Vec3 u = n / area2;
   if (norm2(old_n) > 0) {
     const double d = dot(u, old_n);
@@ -256,8 +276,11 @@ Rejection check_halves(const AdaptedMesh& m, Corner c, const Vec3& x, const Vec3
     const Vertex va = mesh.vertex(k), vb = mesh.edge_from(k), vd = mesh.edge_to(k);
     const Vec3 pa = mesh.position(va), pb = mesh.position(vb), pd = mesh.position(vd);
     const Vec3 &na = m.surface_normal(va), &nb = m.surface_normal(vb), &nd = m.surface_normal(vd);
-    Rejection r = check_triangle(pa, pb, x, old_n, {na, nb, surface_n}, lim, true);
-    if (r == Rejection::None) r = check_triangle(pa, x, pd, old_n, {na, surface_n, nd}, lim, true);
+    // The halves of a degenerate triangle (an input's sliver) are degenerate:
+    // no thinner than a quarter of it.
+    const double degenerate = degenerate_limit(height_ratio(pa, pb, pd));
+    Rejection r = check_triangle(pa, pb, x, old_n, {na, nb, surface_n}, lim, true, degenerate);
+    if (r == Rejection::None) r = check_triangle(pa, x, pd, old_n, {na, surface_n, nd}, lim, true, degenerate);
     if (r != Rejection::None) return r;
   }
   return Rejection::None;
@@ -324,8 +347,9 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     const Rejection first = plan.why;
     // The input's own closest point (on T_G's triangles or feature edge):
     // where the smooth surface strays from the input (pulled back), or
-    // bulges across needles of T_G that its point would tilt.
-    if (plan.at.pulled && norm(plan.at.on_input - plan.at.position) > 0) {
+    // bulges across needles of T_G that its point would tilt (the patches
+    // of slivers).
+    if (norm(plan.at.on_input - plan.at.position) > 0) {
       plan.why = check_split_at(m, c, plan.at.on_input, sn, plan.at.hint_g, lim);
       if (plan.why == Rejection::None) {
         plan.at.position = plan.at.on_input;
@@ -478,7 +502,8 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
       if (has_r && has_k) continue;  // removed
       if (w == k && !moves) continue;  // unchanged
       const TriangleView tv = view(m, t, r, k, p);
-      const Rejection why = check_triangle(tv.x[0], tv.x[1], tv.x[2], reference_normal(m, t), tv.n, lim);
+      const Rejection why = check_triangle(tv.x[0], tv.x[1], tv.x[2], reference_normal(m, t), tv.n, lim, false,
+                                           degenerate_limit(height_ratio(mesh, t)));
       if (why != Rejection::None) return why;
       q_new = std::min(q_new, m.quality(tv.x, tv.M));
       any = true;
@@ -686,7 +711,9 @@ SwapPlan can_swap(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
   const Vec3 &na = m.surface_normal(a), &nb = m.surface_normal(b), &nd = m.surface_normal(d), &ne = m.surface_normal(e);
   for (const auto& [t, sn] : {std::pair{std::array<Vec3, 3>{pa, pb, pe}, std::array<Vec3, 3>{na, nb, ne}},
                               std::pair{std::array<Vec3, 3>{pe, pd, pa}, std::array<Vec3, 3>{ne, nd, na}}}) {
-    const Rejection r = check_triangle(t[0], t[1], t[2], navg, sn, lim);
+    const Rejection r = check_triangle(
+        t[0], t[1], t[2], navg, sn, lim, false,
+        degenerate_limit(std::min(height_ratio(mesh, M::triangle(c)), height_ratio(mesh, M::triangle(oc)))));
     if (r != Rejection::None) {
       plan.why = r;
       return plan;
@@ -784,8 +811,11 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
   std::vector<Vec3> old_n;
   old_n.reserve(fan.size());
   plan.quality_before = 1;
+  std::vector<double> old_limit;
+  old_limit.reserve(fan.size());
   for (Corner x : fan) {
     old_n.push_back(reference_normal(m, M::triangle(x)));
+    old_limit.push_back(degenerate_limit(height_ratio(m.mesh(), M::triangle(x))));
     plan.quality_before = std::min(plan.quality_before, m.quality(M::triangle(x)));
   }
   // The current lengths of the incident edges (the length filter compares with them).
@@ -801,7 +831,7 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
     last = Rejection::None;
     for (std::size_t i = 0; i < fan.size() && last == Rejection::None; ++i) {
       const TriangleView tv = view(m, M::triangle(fan[i]), v, Vertex(), at);
-      last = check_triangle(tv.x[0], tv.x[1], tv.x[2], old_n[i], tv.n, lim);
+      last = check_triangle(tv.x[0], tv.x[1], tv.x[2], old_n[i], tv.n, lim, false, old_limit[i]);
       q = std::min(q, m.quality(tv.x, tv.M));
     }
     if (last != Rejection::None) continue;
