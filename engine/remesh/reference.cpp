@@ -3,6 +3,9 @@
 #include "metric/surface_metric.h"
 
 #include <cassert>
+#include <thread>
+
+#include "geometry/parallel_chunks.h"
 
 #include "geometry/normals.h"
 #include "locate/interpolate.h"
@@ -27,8 +30,32 @@ Projection PolyhedralSurface::project(const Vec3& x, std::span<const Hint> hints
   return p;
 }
 
-BezierGeometry::BezierGeometry(const SurfaceMesh& mesh, Mode mode)
-    : surface_(std::make_shared<const BezierSurface>(mesh, compute_frames(mesh))), locator_(mesh), mode_(mode) {}
+namespace {
+
+// The G1 surface of `mesh` and its locator. The two only read the mesh: with
+// two threads or more the locator's tree is built on a thread of its own
+// while the frames and patches are computed (on a small mesh a thread costs
+// more than it saves).
+std::pair<std::shared_ptr<const BezierSurface>, std::unique_ptr<Locator>> surface_and_locator(const SurfaceMesh& mesh) {
+  constexpr int kMinTrianglesForThread = 4096;
+  std::unique_ptr<Locator> locator;
+  std::thread worker;
+  const bool concurrent = available_threads() > 1 && mesh.n_triangles() >= kMinTrianglesForThread;
+  if (concurrent) worker = std::thread([&] { locator = std::make_unique<Locator>(mesh); });
+  auto surface = std::make_shared<const BezierSurface>(mesh, compute_frames(mesh));
+  if (concurrent)
+    worker.join();
+  else
+    locator = std::make_unique<Locator>(mesh);
+  return {std::move(surface), std::move(locator)};
+}
+
+}  // namespace
+
+BezierGeometry::BezierGeometry(const SurfaceMesh& mesh, Mode mode) : BezierGeometry(surface_and_locator(mesh), mode) {}
+
+BezierGeometry::BezierGeometry(std::pair<std::shared_ptr<const BezierSurface>, std::unique_ptr<Locator>> built, Mode mode)
+    : surface_(std::move(built.first)), locator_(std::move(*built.second)), mode_(mode) {}
 
 Projection BezierGeometry::project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) {
   // Closest point of the G1 surface: Gauss-Newton on the parameters from the

@@ -101,10 +101,9 @@ class BezierGeometry final : public GeometrySurface {
 
  private:
   BezierGeometry(const BezierGeometry&) = default;  // shares the patches, copies the locator (own marks)
+  BezierGeometry(std::pair<std::shared_ptr<const BezierSurface>, std::unique_ptr<Locator>> built, Mode mode);
   Locator& locator() override { return locator_; }
-  // The surface first: the frames it is built from are freed before the
-  // locator is built (the two do not add up at the peak memory). Shared
-  // with the copies for other threads.
+  // Shared with the copies for other threads.
   std::shared_ptr<const BezierSurface> surface_;
   Locator locator_;
   Mode mode_;
