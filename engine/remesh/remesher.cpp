@@ -571,9 +571,16 @@ int Remesher::valence_swaps(PassReport& r) {
   SurfaceMesh& mesh = mesh_.mesh();
   OperatorOptions o = options_.op;
   o.swap_gain = options_.valence_swap_gain;
+  // Valences, counted on first use and kept up to date across the swaps.
+  std::vector<int> valence(static_cast<std::size_t>(mesh.vertex_capacity()), -1);
+  auto valence_of = [&](Vertex v) -> int& {
+    int& k = valence[static_cast<std::size_t>(v.idx)];
+    if (k < 0) k = mesh.valence(v);
+    return k;
+  };
   auto deviation = [&](Vertex v, int delta) {
     if (mesh_.kind(v) != VertexKind::Free) return 0;
-    const int d = mesh.valence(v) + delta - 6;
+    const int d = valence_of(v) + delta - 6;
     return d * d;
   };
   // The metrics of the four vertices isotropic and alike: valence 6 is the
@@ -590,26 +597,36 @@ int Remesher::valence_swaps(PassReport& r) {
     }
     return hi <= 1.5 * lo;
   };
-  std::vector<std::array<int, 2>> edges;
+  // The interior edges now, each with a corner naming it (a swap rewrites
+  // its two triangles: a corner that no longer names its edge is looked up).
+  struct EdgeAt {
+    int a, b, corner;
+  };
+  std::vector<EdgeAt> edges;
   for (Corner c : mesh.edges()) {
-    if (!mesh.is_boundary_edge(c)) edges.push_back({mesh.edge_from(c).idx, mesh.edge_to(c).idx});
+    if (!mesh.is_boundary_edge(c)) edges.push_back({mesh.edge_from(c).idx, mesh.edge_to(c).idx, c.idx});
   }
   int n = 0;
-  for (const auto& e : edges) {
-    const Vertex a(e[0]), b(e[1]);
-    const Corner c = find_edge_corner(mesh, a, b);
+  for (const EdgeAt& e : edges) {
+    const Vertex a(e.a), b(e.b);
+    Corner c(e.corner);
+    if (mesh.is_deleted(M::triangle(c)) || mesh.edge_from(c) != a || mesh.edge_to(c) != b) c = find_edge_corner(mesh, a, b);
     if (!c.is_valid() || mesh.is_boundary_edge(c)) continue;
     const Vertex p = mesh.vertex(c), q = mesh.vertex(mesh.opposite(c));
-    if (!nearly_isotropic({a, b, p, q})) continue;
     const int before = deviation(a, 0) + deviation(b, 0) + deviation(p, 0) + deviation(q, 0);
     const int after = deviation(a, -1) + deviation(b, -1) + deviation(p, 1) + deviation(q, 1);
     if (after >= before) continue;
+    if (!nearly_isotropic({a, b, p, q})) continue;
     // The new diagonal stays in [lmin, lmax] (the passes are over: nothing
     // would split or collapse it).
     const double l = mesh_.length(p, q);
     if (l > o.lmax || l < o.lmin) continue;
     if (can_swap(mesh_, c, o).why != Rejection::None) continue;
     swap(mesh_, c);
+    --valence_of(a);
+    --valence_of(b);
+    ++valence_of(p);
+    ++valence_of(q);
     ++r.swaps;
     ++n;
     for (Vertex v : {a, b, p, q}) touch(r, v);
