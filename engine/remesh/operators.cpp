@@ -41,8 +41,8 @@ struct Limits {
 
 // A triangle whose height is below this fraction of its longest edge is
 // degenerate: its normal is rounding noise or says nothing of the surface
-// (an input's slivers). No operator creates one, except as the half of a
-// split triangle that already was one (kDegenerateFloor at least).
+// (an input's slivers). No operator makes one out of a better triangle
+// (degenerate_limit).
 constexpr double kDegenerateHeight = 1e-6;
 constexpr double kDegenerateFloor = 1e-12;
 
@@ -67,7 +67,8 @@ double degenerate_limit(double old_ratio) {
 // known): refused when degenerate, inverted or turned too far from old_n or
 // from the surface normals `sn` at its corners (unit, or zero where unknown:
 // curves, corners). With `no_worse` (a split's halves), a corner's limit is
-// relaxed to what the replaced triangle already had.
+// relaxed to what the replaced triangle already had. `degenerate`: the least
+// height over longest edge (degenerate_limit of the replaced triangle).
 Rejection check_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& old_n,
                          const std::array<Vec3, 3>& sn, const Limits& o, bool no_worse = false,
                          double degenerate = kDegenerateHeight) {

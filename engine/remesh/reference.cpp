@@ -3,11 +3,10 @@
 #include "metric/surface_metric.h"
 
 #include <cassert>
-#include <thread>
-
-#include "geometry/parallel_chunks.h"
+#include <future>
 
 #include "geometry/normals.h"
+#include "geometry/parallel_chunks.h"
 #include "locate/interpolate.h"
 #include "locate/surface_projection.h"
 #include "mesh/operators.h"
@@ -38,16 +37,16 @@ namespace {
 // more than it saves).
 std::pair<std::shared_ptr<const BezierSurface>, std::unique_ptr<Locator>> surface_and_locator(const SurfaceMesh& mesh) {
   constexpr int kMinTrianglesForThread = 4096;
-  std::unique_ptr<Locator> locator;
-  std::thread worker;
-  const bool concurrent = available_threads() > 1 && mesh.n_triangles() >= kMinTrianglesForThread;
-  if (concurrent) worker = std::thread([&] { locator = std::make_unique<Locator>(mesh); });
+  if (available_threads() < 2 || mesh.n_triangles() < kMinTrianglesForThread) {
+    auto surface = std::make_shared<const BezierSurface>(mesh, compute_frames(mesh));
+    return {std::move(surface), std::make_unique<Locator>(mesh)};
+  }
+  // The future waits for its thread if the surface throws, and passes on
+  // what the locator's construction throws.
+  std::future<std::unique_ptr<Locator>> locator =
+      std::async(std::launch::async, [&mesh] { return std::make_unique<Locator>(mesh); });
   auto surface = std::make_shared<const BezierSurface>(mesh, compute_frames(mesh));
-  if (concurrent)
-    worker.join();
-  else
-    locator = std::make_unique<Locator>(mesh);
-  return {std::move(surface), std::move(locator)};
+  return {std::move(surface), locator.get()};
 }
 
 }  // namespace
