@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <future>
 
 #include "core/error.h"
 #include "geometry/features.h"
@@ -212,14 +213,16 @@ void check_options(const AdaptOptions& o) {
     throw Error("the geometry protection's fraction of the size must be a number >= 0");
 }
 
-std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKind kind) {
-  switch (kind) {
-    case SurfaceKind::Polyhedral: return std::make_unique<PolyhedralSurface>(tg);
-    case SurfaceKind::G1Closest: return std::make_unique<BezierGeometry>(tg, BezierGeometry::Mode::Closest);
-    case SurfaceKind::G1:
-    case SurfaceKind::Auto: break;
+std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKind kind,
+                                               std::unique_ptr<Locator> locator) {
+  const BezierGeometry::Mode mode =
+      kind == SurfaceKind::G1Closest ? BezierGeometry::Mode::Closest : BezierGeometry::Mode::Parametric;
+  if (locator) {
+    if (kind == SurfaceKind::Polyhedral) return std::make_unique<PolyhedralSurface>(tg, std::move(*locator));
+    return std::make_unique<BezierGeometry>(tg, mode, std::move(*locator));
   }
-  return std::make_unique<BezierGeometry>(tg, BezierGeometry::Mode::Parametric);
+  if (kind == SurfaceKind::Polyhedral) return std::make_unique<PolyhedralSurface>(tg);
+  return std::make_unique<BezierGeometry>(tg, mode);
 }
 
 namespace {
@@ -301,6 +304,12 @@ AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& 
   result.size_protection = size_protection_of(options);
 
   std::unique_ptr<GeometrySurface> geometry;
+  // The locator of T_G (either surface has one) is built on a thread of its
+  // own while the first metric is (with two threads or more, T_G of 4096
+  // triangles or more); a metric refused then waits for it.
+  std::future<std::unique_ptr<Locator>> early_locator;
+  if (threads > 1 && tg.n_triangles() >= 4096)
+    early_locator = std::async(std::launch::async, [&tg] { return std::make_unique<Locator>(tg); });
   // The recipe of every cycle; a given metric is kept apart and moved into
   // the cycle's metric (a Given source's next one is the metric carried onto
   // the adapted mesh).
@@ -324,7 +333,7 @@ AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& 
       // Auto is judged on T_G's own metric (T_0 is T_G in the first cycle).
       const SurfaceKind kind =
           resolve_surface(options.surface, tg, separate ? MetricField{} : metric.metric, options.metric.hausd);
-      geometry = make_geometry(tg, kind);
+      geometry = make_geometry(tg, kind, early_locator.valid() ? early_locator.get() : nullptr);
       result.surface = geometry->name();
       timer.done("surface (frames, Bezier patches, locator)");
     }

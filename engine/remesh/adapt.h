@@ -203,9 +203,10 @@ struct AdaptCallbacks {
 // Checks the options without a mesh; throws Error naming the bad value.
 void check_options(const AdaptOptions& options);
 
-// The surface T_1 is kept on, over `tg` (features tagged; outlives it).
-// The surface T_1 lies on (Auto: G1).
-std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKind kind);
+// The surface T_1 is kept on, over `tg` (features tagged; outlives it;
+// Auto: G1), with `locator` when it is tg's already built.
+std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKind kind,
+                                               std::unique_ptr<Locator> locator = nullptr);
 // Auto resolved for T_G, the metric at its vertices (T_G is T_0; empty
 // `metric`: G1) and the chordal deviation hausd (0: none): Polyhedral when
 // the metric refines no edge of T_G (each at most 1 long in it: a

@@ -20,6 +20,10 @@ Vec3 unit_triangle_normal(const SurfaceMesh& mesh, Triangle t) { return normaliz
 }  // namespace
 
 PolyhedralSurface::PolyhedralSurface(const SurfaceMesh& mesh) : locator_(mesh) {}
+PolyhedralSurface::PolyhedralSurface(const SurfaceMesh& mesh, Locator locator) : locator_(std::move(locator)) {
+  assert(&locator_.mesh() == &mesh);
+  (void)mesh;
+}
 
 Projection PolyhedralSurface::project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) {
   Projection p;
@@ -52,6 +56,13 @@ std::pair<std::shared_ptr<const BezierSurface>, std::unique_ptr<Locator>> surfac
 }  // namespace
 
 BezierGeometry::BezierGeometry(const SurfaceMesh& mesh, Mode mode) : BezierGeometry(surface_and_locator(mesh), mode) {}
+
+BezierGeometry::BezierGeometry(const SurfaceMesh& mesh, Mode mode, Locator locator)
+    : surface_(std::make_shared<const BezierSurface>(mesh, compute_frames(mesh))),
+      locator_(std::move(locator)),
+      mode_(mode) {
+  assert(&locator_.mesh() == &mesh);
+}
 
 BezierGeometry::BezierGeometry(std::pair<std::shared_ptr<const BezierSurface>, std::unique_ptr<Locator>> built, Mode mode)
     : surface_(std::move(built.first)), locator_(std::move(*built.second)), mode_(mode) {}

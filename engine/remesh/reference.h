@@ -65,6 +65,8 @@ class PolyhedralSurface final : public GeometrySurface {
  public:
   // Pre: `mesh` has its features tagged and outlives the surface.
   explicit PolyhedralSurface(const SurfaceMesh& mesh);
+  // With the locator of `mesh` already built.
+  PolyhedralSurface(const SurfaceMesh& mesh, Locator locator);
   Projection project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) override;
   const SurfaceMesh& mesh() const override { return locator_.mesh(); }
   std::string name() const override { return "polyhedral"; }
@@ -91,6 +93,8 @@ class BezierGeometry final : public GeometrySurface {
   enum class Mode { Parametric, Closest };
   // Pre: `mesh` has its features tagged and outlives the surface.
   explicit BezierGeometry(const SurfaceMesh& mesh, Mode mode = Mode::Parametric);
+  // With the locator of `mesh` already built.
+  BezierGeometry(const SurfaceMesh& mesh, Mode mode, Locator locator);
   Projection project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) override;
   const SurfaceMesh& mesh() const override { return locator_.mesh(); }
   std::string name() const override { return "g1-bezier"; }
