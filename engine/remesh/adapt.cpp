@@ -215,14 +215,11 @@ void check_options(const AdaptOptions& o) {
 
 std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKind kind,
                                                std::unique_ptr<Locator> locator) {
+  Locator built = locator ? std::move(*locator) : Locator(tg);
+  if (kind == SurfaceKind::Polyhedral) return std::make_unique<PolyhedralSurface>(std::move(built));
   const BezierGeometry::Mode mode =
       kind == SurfaceKind::G1Closest ? BezierGeometry::Mode::Closest : BezierGeometry::Mode::Parametric;
-  if (locator) {
-    if (kind == SurfaceKind::Polyhedral) return std::make_unique<PolyhedralSurface>(tg, std::move(*locator));
-    return std::make_unique<BezierGeometry>(tg, mode, std::move(*locator));
-  }
-  if (kind == SurfaceKind::Polyhedral) return std::make_unique<PolyhedralSurface>(tg);
-  return std::make_unique<BezierGeometry>(tg, mode);
+  return std::make_unique<BezierGeometry>(tg, mode, std::move(built));
 }
 
 namespace {

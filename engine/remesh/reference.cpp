@@ -3,10 +3,8 @@
 #include "metric/surface_metric.h"
 
 #include <cassert>
-#include <future>
 
 #include "geometry/normals.h"
-#include "geometry/parallel_chunks.h"
 #include "locate/interpolate.h"
 #include "locate/surface_projection.h"
 #include "mesh/operators.h"
@@ -20,10 +18,7 @@ Vec3 unit_triangle_normal(const SurfaceMesh& mesh, Triangle t) { return normaliz
 }  // namespace
 
 PolyhedralSurface::PolyhedralSurface(const SurfaceMesh& mesh) : locator_(mesh) {}
-PolyhedralSurface::PolyhedralSurface(const SurfaceMesh& mesh, Locator locator) : locator_(std::move(locator)) {
-  assert(&locator_.mesh() == &mesh);
-  (void)mesh;
-}
+PolyhedralSurface::PolyhedralSurface(Locator locator) : locator_(std::move(locator)) {}
 
 Projection PolyhedralSurface::project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) {
   Projection p;
@@ -33,29 +28,7 @@ Projection PolyhedralSurface::project(const Vec3& x, std::span<const Hint> hints
   return p;
 }
 
-namespace {
-
-// The G1 surface of `mesh` and its locator. The two only read the mesh: with
-// two threads or more the locator's tree is built on a thread of its own
-// while the frames and patches are computed (on a small mesh a thread costs
-// more than it saves).
-std::pair<std::shared_ptr<const BezierSurface>, std::unique_ptr<Locator>> surface_and_locator(const SurfaceMesh& mesh) {
-  constexpr int kMinTrianglesForThread = 4096;
-  if (available_threads() < 2 || mesh.n_triangles() < kMinTrianglesForThread) {
-    auto surface = std::make_shared<const BezierSurface>(mesh, compute_frames(mesh));
-    return {std::move(surface), std::make_unique<Locator>(mesh)};
-  }
-  // The future waits for its thread if the surface throws, and passes on
-  // what the locator's construction throws.
-  std::future<std::unique_ptr<Locator>> locator =
-      std::async(std::launch::async, [&mesh] { return std::make_unique<Locator>(mesh); });
-  auto surface = std::make_shared<const BezierSurface>(mesh, compute_frames(mesh));
-  return {std::move(surface), locator.get()};
-}
-
-}  // namespace
-
-BezierGeometry::BezierGeometry(const SurfaceMesh& mesh, Mode mode) : BezierGeometry(surface_and_locator(mesh), mode) {}
+BezierGeometry::BezierGeometry(const SurfaceMesh& mesh, Mode mode) : BezierGeometry(mesh, mode, Locator(mesh)) {}
 
 BezierGeometry::BezierGeometry(const SurfaceMesh& mesh, Mode mode, Locator locator)
     : surface_(std::make_shared<const BezierSurface>(mesh, compute_frames(mesh))),
@@ -63,9 +36,6 @@ BezierGeometry::BezierGeometry(const SurfaceMesh& mesh, Mode mode, Locator locat
       mode_(mode) {
   assert(&locator_.mesh() == &mesh);
 }
-
-BezierGeometry::BezierGeometry(std::pair<std::shared_ptr<const BezierSurface>, std::unique_ptr<Locator>> built, Mode mode)
-    : surface_(std::move(built.first)), locator_(std::move(*built.second)), mode_(mode) {}
 
 Projection BezierGeometry::project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) {
   // Closest point of the G1 surface: Gauss-Newton on the parameters from the

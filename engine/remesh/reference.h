@@ -65,8 +65,8 @@ class PolyhedralSurface final : public GeometrySurface {
  public:
   // Pre: `mesh` has its features tagged and outlives the surface.
   explicit PolyhedralSurface(const SurfaceMesh& mesh);
-  // With the locator of `mesh` already built.
-  PolyhedralSurface(const SurfaceMesh& mesh, Locator locator);
+  // With the locator of that mesh already built.
+  explicit PolyhedralSurface(Locator locator);
   Projection project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) override;
   const SurfaceMesh& mesh() const override { return locator_.mesh(); }
   std::string name() const override { return "polyhedral"; }
@@ -105,7 +105,6 @@ class BezierGeometry final : public GeometrySurface {
 
  private:
   BezierGeometry(const BezierGeometry&) = default;  // shares the patches, copies the locator (own marks)
-  BezierGeometry(std::pair<std::shared_ptr<const BezierSurface>, std::unique_ptr<Locator>> built, Mode mode);
   Locator& locator() override { return locator_; }
   // Shared with the copies for other threads.
   std::shared_ptr<const BezierSurface> surface_;
