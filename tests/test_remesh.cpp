@@ -160,7 +160,9 @@ TEST_CASE("remesh: random operator sequences keep the mesh valid, on the surface
         const Vertex v = m.vertex(c);
         const MovePlan p = can_move(a, v, o);
         if (p.why != Rejection::None) continue;
-        CHECK(p.quality_after >= p.quality_before);
+        // A vertex left off the surface (a split at the straight midpoint) is
+        // projected whatever the quality; any other move does not lower it.
+        if (a.on_surface(v)) CHECK(p.quality_after >= p.quality_before);
         move(a, v, p);
       }
       ++done[op];

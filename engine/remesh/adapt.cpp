@@ -15,6 +15,7 @@
 
 #include "core/error.h"
 #include "geometry/features.h"
+#include "geometry/normals.h"
 #include "geometry/parallel_chunks.h"
 #include "metric/surface_metric.h"
 #include "remesh/parallel.h"
@@ -214,12 +215,16 @@ void check_options(const AdaptOptions& o) {
 }
 
 std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKind kind,
-                                               std::unique_ptr<Locator> locator) {
-  Locator built = locator ? std::move(*locator) : Locator(tg);
-  if (kind == SurfaceKind::Polyhedral) return std::make_unique<PolyhedralSurface>(std::move(built));
+                                               std::future<std::unique_ptr<Locator>> locator) {
+  auto take_locator = [&] {
+    std::unique_ptr<Locator> built = locator.valid() ? locator.get() : nullptr;
+    return built ? std::move(*built) : Locator(tg);
+  };
+  if (kind == SurfaceKind::Polyhedral) return std::make_unique<PolyhedralSurface>(take_locator());
   const BezierGeometry::Mode mode =
       kind == SurfaceKind::G1Closest ? BezierGeometry::Mode::Closest : BezierGeometry::Mode::Parametric;
-  return std::make_unique<BezierGeometry>(tg, mode, std::move(built));
+  auto surface = std::make_shared<const BezierSurface>(tg, compute_frames(tg));
+  return std::make_unique<BezierGeometry>(std::move(surface), mode, take_locator());
 }
 
 namespace {
@@ -330,7 +335,7 @@ AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& 
       // Auto is judged on T_G's own metric (T_0 is T_G in the first cycle).
       const SurfaceKind kind =
           resolve_surface(options.surface, tg, separate ? MetricField{} : metric.metric, options.metric.hausd);
-      geometry = make_geometry(tg, kind, early_locator.valid() ? early_locator.get() : nullptr);
+      geometry = make_geometry(tg, kind, std::move(early_locator));
       result.surface = geometry->name();
       timer.done("surface (frames, Bezier patches, locator)");
     }

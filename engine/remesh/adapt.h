@@ -15,6 +15,7 @@
 //   remesh::AdaptResult r = remesh::adapt({std::move(mesh)}, o);
 #pragma once
 #include <functional>
+#include <future>
 #include <limits>
 #include <memory>
 #include <string>
@@ -204,9 +205,11 @@ struct AdaptCallbacks {
 void check_options(const AdaptOptions& options);
 
 // The surface T_1 is kept on, over `tg` (features tagged; outlives it;
-// Auto: G1), with `locator` when it is tg's already built.
+// Auto: G1). `locator`, when valid, yields tg's locator being built on
+// another thread: the frames and patches are computed meanwhile, and it is
+// waited for last.
 std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKind kind,
-                                               std::unique_ptr<Locator> locator = nullptr);
+                                               std::future<std::unique_ptr<Locator>> locator = {});
 // Auto resolved for T_G, the metric at its vertices (T_G is T_0; empty
 // `metric`: G1) and the chordal deviation hausd (0: none): Polyhedral when
 // the metric refines no edge of T_G (each at most 1 long in it: a

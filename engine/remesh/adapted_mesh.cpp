@@ -47,7 +47,9 @@ AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, Control
       for (Vertex w : mesh_.ring_vertices(v))
         if (seen[w.idx] == 2) near.push_back(w);
       const Vec3 x = mesh_.position(v);
-      Placement p = place(x, kind(v), near);
+      const VertexKind k = kind(v);
+      std::optional<Placement> same = project_initial ? std::nullopt : place_at_input_vertex(v, x, k);
+      Placement p = same ? std::move(*same) : place(x, k, near);
       if (!project_initial) p.position = x;
       commit(v, p);
       seen[v.idx] = 2;
@@ -132,6 +134,27 @@ Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, const std::vector<V
   p.values = control_.values_at(in0);
   p.on_input = pr.location.is_valid() ? pr.location.point : p.position;
   if (kind != VertexKind::Fixed) pull_towards_input(p, pr.location);
+  return p;
+}
+
+std::optional<Placement> AdaptedMesh::place_at_input_vertex(Vertex v, const Vec3& x, VertexKind kind) {
+  const SurfaceMesh& g = geometry_.mesh();
+  if (v.idx >= g.vertex_capacity() || g.is_deleted(v) || g.is_isolated(v) || !(g.position(v) == x)) return std::nullopt;
+  const Corner c = g.corner(v);
+  Location at;
+  at.triangle = SurfaceMesh::triangle(c);
+  at.bary[SurfaceMesh::local_index(c)] = 1;
+  at.point = x;
+  at.distance = 0;
+  const Projection pr = geometry_.at(at);
+  Placement p;
+  p.position = x;
+  p.normal = kind == VertexKind::Free ? pr.normal : Vec3();
+  p.hint_g = at.hint();
+  const Location in0 = control_.locate(x, Hint{}, at);
+  p.hint_0 = in0.hint();
+  p.values = control_.values_at(in0);
+  p.on_input = x;
   return p;
 }
 

@@ -11,6 +11,7 @@
 #include <array>
 #include <initializer_list>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "remesh/reference.h"
@@ -97,6 +98,10 @@ class AdaptedMesh {
   Placement place(const Vec3& x, VertexKind kind, const std::vector<Vertex>& near);
   // The placement of v as it is now (no search).
   Placement current(Vertex v) const;
+  // The placement of vertex v at x when T_G's vertex of the same id lies
+  // exactly at x (T_1 starts as a copy of T_G): located there, no search.
+  // Empty otherwise.
+  std::optional<Placement> place_at_input_vertex(Vertex v, const Vec3& x, VertexKind kind);
   // The data-transfer hook: v takes the placement (position, hints, metric,
   // solution values). Called after every split (new vertex), collapse (kept
   // vertex, when it moves) and move.

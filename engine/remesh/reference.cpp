@@ -31,10 +31,28 @@ Projection PolyhedralSurface::project(const Vec3& x, std::span<const Hint> hints
 BezierGeometry::BezierGeometry(const SurfaceMesh& mesh, Mode mode) : BezierGeometry(mesh, mode, Locator(mesh)) {}
 
 BezierGeometry::BezierGeometry(const SurfaceMesh& mesh, Mode mode, Locator locator)
-    : surface_(std::make_shared<const BezierSurface>(mesh, compute_frames(mesh))),
-      locator_(std::move(locator)),
-      mode_(mode) {
+    : BezierGeometry(std::make_shared<const BezierSurface>(mesh, compute_frames(mesh)), mode, std::move(locator)) {
   assert(&locator_.mesh() == &mesh);
+}
+
+BezierGeometry::BezierGeometry(std::shared_ptr<const BezierSurface> surface, Mode mode, Locator locator)
+    : surface_(std::move(surface)), locator_(std::move(locator)), mode_(mode) {}
+
+Projection PolyhedralSurface::at(const Location& where) const {
+  Projection p;
+  p.location = where;
+  p.point = where.point;
+  p.normal = unit_triangle_normal(locator_.mesh(), where.triangle);
+  return p;
+}
+
+Projection BezierGeometry::at(const Location& where) const {
+  const SurfacePoint s = surface_->evaluate(where.triangle, where.bary);
+  Projection p;
+  p.location = where;
+  p.point = s.position;
+  p.normal = s.normal;
+  return p;
 }
 
 Projection BezierGeometry::project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) {

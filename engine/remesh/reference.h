@@ -44,6 +44,10 @@ class GeometrySurface {
   Location closest_on_input(const Vec3& x, std::span<const Hint> hints) {
     return locator().project(x, hints, Constraint::Free);
   }
+  // The surface point at a location on T_G (a point of its triangles, as a
+  // projection gives), with the unit normal there: a vertex of T_G is its own
+  // surface point.
+  virtual Projection at(const Location& where) const = 0;
   // The polyhedral mesh T_G (tags: features, corners).
   virtual const SurfaceMesh& mesh() const = 0;
   virtual std::string name() const = 0;
@@ -68,6 +72,7 @@ class PolyhedralSurface final : public GeometrySurface {
   // With the locator of that mesh already built.
   explicit PolyhedralSurface(Locator locator);
   Projection project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) override;
+  Projection at(const Location& where) const override;
   const SurfaceMesh& mesh() const override { return locator_.mesh(); }
   std::string name() const override { return "polyhedral"; }
   double clearance(Vertex v) const override { return locator_.clearance(v); }
@@ -95,7 +100,10 @@ class BezierGeometry final : public GeometrySurface {
   explicit BezierGeometry(const SurfaceMesh& mesh, Mode mode = Mode::Parametric);
   // With the locator of `mesh` already built.
   BezierGeometry(const SurfaceMesh& mesh, Mode mode, Locator locator);
+  // With the patches of the locator's mesh already built (section 3).
+  BezierGeometry(std::shared_ptr<const BezierSurface> surface, Mode mode, Locator locator);
   Projection project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) override;
+  Projection at(const Location& where) const override;
   const SurfaceMesh& mesh() const override { return locator_.mesh(); }
   std::string name() const override { return "g1-bezier"; }
   double clearance(Vertex v) const override { return locator_.clearance(v); }
