@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 #include <numeric>
+#include <span>
 #include <unordered_map>
 
 #include "core/error.h"
@@ -145,16 +146,45 @@ struct EdgeUse {
   int local;  // corner opposite the edge
 };
 
+// Indices 0..n-1 ordered by (first(i), then by `less` within equal firsts),
+// first(i) in [0, buckets): a counting sort on first, then each bucket
+// (a vertex's few edges or triangles) sorted in place.
+template <class First, class Less>
+std::vector<int> bucket_order(int n, int buckets, First first, Less less) {
+  std::vector<int> start(static_cast<std::size_t>(buckets) + 1, 0);
+  for (int i = 0; i < n; ++i) ++start[static_cast<std::size_t>(first(i)) + 1];
+  for (int b = 0; b < buckets; ++b) start[b + 1] += start[b];
+  std::vector<int> order(static_cast<std::size_t>(n));
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (int i = 0; i < n; ++i) order[static_cast<std::size_t>(fill[first(i)]++)] = i;
+  for (int b = 0; b < buckets; ++b) std::sort(order.begin() + start[b], order.begin() + start[b + 1], less);
+  return order;
+}
+
+int vertex_bound(const std::vector<Tri>& tris) {
+  int n = 0;
+  for (const Tri& t : tris) n = std::max({n, t[0] + 1, t[1] + 1, t[2] + 1});
+  return n;
+}
+
+// The uses of every edge (key, triangle, opposite corner), ordered by key,
+// then triangle, then corner.
 std::vector<EdgeUse> sorted_edge_uses(const std::vector<Tri>& tris) {
   std::vector<EdgeUse> uses;
   uses.reserve(tris.size() * 3);
   for (int t = 0; t < static_cast<int>(tris.size()); ++t)
     for (int k = 0; k < 3; ++k)
       uses.push_back({edge_key(tris[t][(k + 1) % 3], tris[t][(k + 2) % 3]), t, k});
-  std::sort(uses.begin(), uses.end(), [](const EdgeUse& a, const EdgeUse& b) {
-    return a.key != b.key ? a.key < b.key : (a.tri != b.tri ? a.tri < b.tri : a.local < b.local);
-  });
-  return uses;
+  const std::vector<int> order = bucket_order(
+      static_cast<int>(uses.size()), vertex_bound(tris), [&](int i) { return static_cast<int>(uses[i].key >> 32); },
+      [&](int i, int j) {
+        const EdgeUse &a = uses[i], &b = uses[j];
+        return a.key != b.key ? a.key < b.key : (a.tri != b.tri ? a.tri < b.tri : a.local < b.local);
+      });
+  std::vector<EdgeUse> sorted;
+  sorted.reserve(uses.size());
+  for (int i : order) sorted.push_back(uses[i]);
+  return sorted;
 }
 
 // True when the edge opposite corner `local` of t runs in the same direction
@@ -226,8 +256,7 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
     tri_origin.push_back(t);
   }
   if (opt.drop_duplicate_triangles) {
-    std::vector<int> order(tris.size());
-    std::iota(order.begin(), order.end(), 0);
+    std::vector<int> order;
     auto sorted = [&](int t) {
       Tri s = tris[t];
       std::sort(s.begin(), s.end());
@@ -235,7 +264,8 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
     };
     std::vector<Tri> keys(tris.size());
     for (std::size_t t = 0; t < tris.size(); ++t) keys[t] = sorted(static_cast<int>(t));
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return keys[a] != keys[b] ? keys[a] < keys[b] : a < b; });
+    order = bucket_order(static_cast<int>(tris.size()), vertex_bound(tris), [&](int t) { return keys[t][0]; },
+                         [&](int a, int b) { return keys[a] != keys[b] ? keys[a] < keys[b] : a < b; });
     std::vector<char> drop(tris.size(), 0);
     for (std::size_t i = 1; i < order.size(); ++i)
       if (keys[order[i]] == keys[order[i - 1]]) drop[order[i]] = 1;
@@ -275,10 +305,19 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
   }
 
   // 4. orient each component by a breadth-first walk over the pairs
-  std::vector<std::vector<int>> tri_pairs(nt);
+  // The pairs of each triangle (one per edge at most: three slots, -1 when
+  // unused), in pair order.
+  std::vector<std::array<int, 3>> tri_pairs(static_cast<std::size_t>(nt), {-1, -1, -1});
+  auto add_pair = [&](int t, int p) {
+    for (int& slot : tri_pairs[static_cast<std::size_t>(t)])
+      if (slot < 0) {
+        slot = p;
+        return;
+      }
+  };
   for (int p = 0; p < static_cast<int>(pairs.size()); ++p) {
-    tri_pairs[pairs[p].t0].push_back(p);
-    tri_pairs[pairs[p].t1].push_back(p);
+    add_pair(pairs[p].t0, p);
+    add_pair(pairs[p].t1, p);
   }
   std::vector<char> cut(pairs.size(), 0);
   if (opt.orient) {
@@ -293,6 +332,7 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
       for (std::size_t qi = 0; qi < queue.size(); ++qi) {
         int t = queue[qi];
         for (int p : tri_pairs[t]) {
+          if (p < 0) break;
           const Pair& pr = pairs[p];
           int u = pr.t0 == t ? pr.t1 : pr.t0;
           bool same = same_direction(tris[pr.t0], pr.l0, tris[pr.t1], pr.l1);
@@ -356,20 +396,31 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
   }
 
   // 6. vertex fans: assign incident corners; split non-manifold vertices
-  std::vector<std::vector<int>> corners_of(nv_in);
+  // corners of each vertex, in corner order: corner_list[corner_start[v] ..
+  // corner_start[v + 1])
+  std::vector<int> corner_start(static_cast<std::size_t>(nv_in) + 1, 0), corner_list(3 * static_cast<std::size_t>(nt));
   for (int t = 0; t < nt; ++t)
-    for (int k = 0; k < 3; ++k) corners_of[tris[t][k]].push_back(3 * t + k);
+    for (int k = 0; k < 3; ++k) ++corner_start[tris[t][k] + 1];
+  for (int v = 0; v < nv_in; ++v) corner_start[v + 1] += corner_start[v];
+  {
+    std::vector<int> fill(corner_start.begin(), corner_start.end() - 1);
+    for (int t = 0; t < nt; ++t)
+      for (int k = 0; k < 3; ++k) corner_list[fill[tris[t][k]]++] = 3 * t + k;
+  }
+  auto corners_of = [&](int v) {
+    return std::span<const int>(corner_list.data() + corner_start[v], corner_list.data() + corner_start[v + 1]);
+  };
   std::vector<int> origin(nv_in);
   std::iota(origin.begin(), origin.end(), 0);
   std::vector<char> seen(3 * static_cast<std::size_t>(nt), 0);
   for (int v = 0; v < nv_in; ++v) {
-    if (corners_of[v].empty()) continue;
+    if (corners_of(v).empty()) continue;
     bool first_fan = true;
-    for (int c0 : corners_of[v]) {
+    for (int c0 : corners_of(v)) {
       if (seen[c0]) continue;
       // Collect this fan: walk clockwise to its start, then counter-clockwise.
       Corner start(c0);
-      for (std::size_t guard = 0; guard <= corners_of[v].size(); ++guard) {
+      for (std::size_t guard = 0; guard <= corners_of(v).size(); ++guard) {
         Corner n = mesh.swing_cw(start);
         if (!n.is_valid() || n.idx == c0) break;
         start = n;
@@ -381,7 +432,7 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
         ++rep.non_manifold_vertices;
       }
       Corner c = start;
-      for (std::size_t guard = 0; guard <= corners_of[v].size(); ++guard) {
+      for (std::size_t guard = 0; guard <= corners_of(v).size(); ++guard) {
         seen[c.idx] = 1;
         mesh.set_corner_vertex(c, target);
         c = mesh.swing_ccw(c);
@@ -423,7 +474,7 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
       Corner c;
       if (a != b) {
         // search among every copy of a (split vertices share the origin)
-        for (int c0 : corners_of[a]) {
+        for (int c0 : corners_of(a)) {
           if (origin[mesh.vertex(SurfaceMesh::next(Corner(c0))).idx] == b)
             c = SurfaceMesh::prev(Corner(c0));
           else if (origin[mesh.vertex(SurfaceMesh::prev(Corner(c0))).idx] == b)
