@@ -42,12 +42,13 @@ inline Vec3 normalized(const Vec3& a) {
 inline bool is_finite(const Vec3& a) {
   return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
 }
-inline Vec3 min(const Vec3& a, const Vec3& b) {
-  return {std::fmin(a.x, b.x), std::fmin(a.y, b.y), std::fmin(a.z, b.z)};
-}
-inline Vec3 max(const Vec3& a, const Vec3& b) {
-  return {std::fmax(a.x, b.x), std::fmax(a.y, b.y), std::fmax(a.z, b.z)};
-}
+// fmin / fmax of each coordinate (a NaN loses to a number), written out:
+// the library calls are not inlined, and bounding boxes are built from
+// millions of them.
+inline double min_of(double a, double b) { return a != a || b < a ? b : a; }
+inline double max_of(double a, double b) { return a != a || b > a ? b : a; }
+inline Vec3 min(const Vec3& a, const Vec3& b) { return {min_of(a.x, b.x), min_of(a.y, b.y), min_of(a.z, b.z)}; }
+inline Vec3 max(const Vec3& a, const Vec3& b) { return {max_of(a.x, b.x), max_of(a.y, b.y), max_of(a.z, b.z)}; }
 
 // Axis-aligned bounding box.
 struct BBox {

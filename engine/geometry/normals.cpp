@@ -644,7 +644,7 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
     auto worst = [&](double th) {
       const Vec3 n = std::cos(th) * e1 + std::sin(th) * e2;
       double w = 2;
-      for (const Vec3& g : gs) w = std::fmin(w, dot(n, g));
+      for (const Vec3& g : gs) w = min_of(w, dot(n, g));
       return w;
     };
     if (worst(0) >= margin) continue;

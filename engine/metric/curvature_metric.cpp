@@ -73,7 +73,7 @@ std::vector<CurveDirection> curve_directions(const SurfaceMesh& mesh, Vertex v) 
 SymTensor3 curve_metric(const CurveDirection& d, double floor, double scale) {
   const SymTensor3 tt = SymTensor3::outer(d.tangent);
   const SymTensor3 across = SymTensor3::identity() - tt;
-  return (scale * std::fmax(d.curvature, floor)) * tt + (scale * floor) * across;
+  return (scale * max_of(d.curvature, floor)) * tt + (scale * floor) * across;
 }
 
 // Unit normal of t, or zero when t is too thin for it to mean anything (area
@@ -82,7 +82,7 @@ Vec3 reliable_normal(const SurfaceMesh& mesh, Triangle t) {
   const Vec3 n = mesh.triangle_normal(t);
   double longest2 = 0;
   for (int k = 0; k < 3; ++k)
-    longest2 = std::fmax(longest2, norm2(mesh.position(mesh.vertex(t, (k + 1) % 3)) - mesh.position(mesh.vertex(t, k))));
+    longest2 = max_of(longest2, norm2(mesh.position(mesh.vertex(t, (k + 1) % 3)) - mesh.position(mesh.vertex(t, k))));
   return 0.5 * norm(n) > 1e-12 * longest2 ? normalized(n) : Vec3();
 }
 

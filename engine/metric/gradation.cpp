@@ -105,7 +105,7 @@ double largest_excess(const std::vector<Vec3>& positions, const std::vector<std:
       const int p = e[side], q = e[1 - side];
       const SymTensor3 P = propagated(metric[p], positions[q] - positions[p], options.space, log_ratio);
       if (contains_scaled(metric[q], worst * worst, P)) continue;
-      worst = std::fmax(worst, std::sqrt(largest_generalized_eigenvalue(P, metric[q])));
+      worst = max_of(worst, std::sqrt(largest_generalized_eigenvalue(P, metric[q])));
     }
   return worst;
 }
@@ -122,7 +122,7 @@ double gradation_excess(const SymTensor3& Mp, const SymTensor3& Mq, const Vec3& 
 
 double edge_gradation_excess(const SymTensor3& Mp, const SymTensor3& Mq, const Vec3& e,
                              const GradationOptions& options) {
-  return std::fmax(gradation_excess(Mp, Mq, e, options), gradation_excess(Mq, Mp, -e, options));
+  return max_of(gradation_excess(Mp, Mq, e, options), gradation_excess(Mq, Mp, -e, options));
 }
 
 GradationReport gradate_metric(const std::vector<Vec3>& positions, const std::vector<std::array<int, 2>>& edges,

@@ -202,7 +202,7 @@ class PivotedQR {
     for (int k = 0; k < n_; ++k) {
       swap_columns(k, column_of_largest_norm(k));
       diagonal_[k] = reflect_column(k);
-      largest = std::fmax(largest, std::fabs(diagonal_[k]));
+      largest = max_of(largest, std::fabs(diagonal_[k]));
       for (int j = k + 1; j < n_; ++j) apply_reflector(k, column(j));
     }
     for (int k = 0; k < n_; ++k)
@@ -480,7 +480,7 @@ TangentAbs tangent_abs(const SymTensor3& H, const Vec3& n, double floor) {
   TangentAbs t;
   t.frame = tangent_frame(n);
   const SymEigen2 e = eigen_decompose(restrict_to_tangent(H, t.frame[0], t.frame[1]));
-  t.values = {std::fmax(std::fabs(e.values[0]), floor), std::fmax(std::fabs(e.values[1]), floor)};
+  t.values = {max_of(std::fabs(e.values[0]), floor), max_of(std::fabs(e.values[1]), floor)};
   t.angle = e.angle;
   return t;
 }
@@ -542,7 +542,7 @@ double largest_point_curvature(const SurfaceMesh& mesh, Vertex v, const Vec3& n,
   for (int w : points) {
     const Vec3 d = mesh.position(Vertex(w)) - p0;
     const double d2 = norm2(d);
-    if (d2 > 0) largest = std::fmax(largest, 2.0 * std::fabs(dot(d, n)) / d2);
+    if (d2 > 0) largest = max_of(largest, 2.0 * std::fabs(dot(d, n)) / d2);
   }
   return largest;
 }
@@ -661,8 +661,8 @@ MetricField hessian_metric(const SurfaceMesh& mesh, const std::vector<SymTensor3
   // count a tiny fraction of the largest curvature of f.
   double lmax = 0;
   for (int i = 0; i < nv; ++i)
-    if (!mesh.is_deleted(Vertex(i))) lmax = std::fmax(lmax, frobenius_norm(hessian[i]));
-  const double floor = by_error ? o.error / (c * bounds.hmax * bounds.hmax) : std::fmax(1e-12 * lmax, 1e-300);
+    if (!mesh.is_deleted(Vertex(i))) lmax = max_of(lmax, frobenius_norm(hessian[i]));
+  const double floor = by_error ? o.error / (c * bounds.hmax * bounds.hmax) : max_of(1e-12 * lmax, 1e-300);
 
   const bool finite_p = std::isfinite(o.p);
   const double det_power = finite_p ? -1.0 / (2.0 * o.p + 2.0) : 0.0;

@@ -108,7 +108,7 @@ Vec3 orthogonal_unit(const Vec3& v) {
 // eigenvalues, go to eigen_decompose.
 SymEigen3 direct_eigen_decompose(const SymTensor3& M) {
   double scale = 0;
-  for (double x : M.m) scale = std::fmax(scale, std::fabs(x));
+  for (double x : M.m) scale = max_of(scale, std::fabs(x));
   const auto& m = M.m;
   if (!(scale > 0) || !std::isfinite(scale) || m[1] * m[1] + m[3] * m[3] + m[4] * m[4] == 0) return eigen_decompose(M);
   const SymTensor3 A = M * (1.0 / scale);
@@ -184,7 +184,7 @@ SymTensor3 congruence(const SymTensor3& M, const std::array<Vec3, 3>& columns) {
 SymEigen3 eigen_decompose(const SymTensor3& M) {
   SymEigen3 out;
   double scale = 0;
-  for (double x : M.m) scale = std::fmax(scale, std::fabs(x));
+  for (double x : M.m) scale = max_of(scale, std::fabs(x));
   if (!std::isfinite(scale) || !is_finite(M)) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     out.values = {nan, nan, nan};
@@ -251,7 +251,7 @@ SymEigen2 eigen_decompose(const SymTensor2& M) {
   double big = mean >= 0 ? mean + r : mean - r;
   double small = big != 0 ? (a * c - b * b) / big : 0.0;
   if (r == 0) small = big;
-  out.values = {std::fmin(big, small), std::fmax(big, small)};
+  out.values = {min_of(big, small), max_of(big, small)};
   // The eigenvector of the larger eigenvalue has angle 0.5 atan2(2b, a - c).
   const double phi = 0.5 * std::atan2(2.0 * b, a - c);
   out.angle = phi + 0.5 * M_PI;  // vectors[0] belongs to the smaller eigenvalue
@@ -390,7 +390,7 @@ SymTensor3 clamp_metric(const SymTensor3& M, const MetricBounds& b) {
   for (double& v : e.values) v = std::clamp(v, lmin, lmax);
   if (std::isfinite(b.max_anisotropy)) {
     const double floor = e.values[2] / (b.max_anisotropy * b.max_anisotropy);
-    for (double& v : e.values) v = std::fmax(v, floor);
+    for (double& v : e.values) v = max_of(v, floor);
   }
   return compose(e.values, e.vectors);
 }

@@ -88,7 +88,7 @@ inline double quad(const SymTensor3& M, const Vec3& u) {
 // u^T M v.
 inline double bilinear(const SymTensor3& M, const Vec3& u, const Vec3& v) { return dot(u, M * v); }
 // Length of the vector u in the constant metric M: sqrt(u^T M u).
-inline double metric_length(const SymTensor3& M, const Vec3& u) { return std::sqrt(std::fmax(quad(M, u), 0.0)); }
+inline double metric_length(const SymTensor3& M, const Vec3& u) { return std::sqrt(max_of(quad(M, u), 0.0)); }
 inline double trace(const SymTensor3& M) { return M.m[0] + M.m[2] + M.m[5]; }
 inline double det(const SymTensor3& M) {
   const auto& a = M.m;

@@ -31,7 +31,7 @@ double mean_ratio_in(const std::array<Vec3, 3>& p, const SymTensor3& M) {
   const double aa = quad(M, a), bb = quad(M, b), ab = bilinear(M, a, b);
   const double sum = aa + bb + quad(M, c);
   if (!(sum > 0)) return 0.0;
-  const double area = 0.5 * std::sqrt(std::fmax(aa * bb - ab * ab, 0.0));
+  const double area = 0.5 * std::sqrt(max_of(aa * bb - ab * ab, 0.0));
   return 4.0 * std::sqrt(3.0) * area / sum;
 }
 

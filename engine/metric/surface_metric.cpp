@@ -56,7 +56,7 @@ double metric_complexity(const SurfaceMesh& mesh, const std::function<SymTensor3
     const auto frame = tangent_frame(tn / area2);
     double s = 0;
     for (int k = 0; k < 3; ++k)
-      s += std::sqrt(std::fmax(det(restrict_to_tangent(metric_at(mesh.vertex(t, k)), frame[0], frame[1])), 0.0));
+      s += std::sqrt(max_of(det(restrict_to_tangent(metric_at(mesh.vertex(t, k)), frame[0], frame[1])), 0.0));
     c += 0.5 * area2 * s / 3.0;
   }
   return c;
