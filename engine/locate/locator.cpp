@@ -289,37 +289,47 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
 
   // Section 4.2: move to the closest unmarked triangle of the neighbourhood
   // E(K) while it is closer (ties stay: the closest point is the same).
+  // Every marked triangle is at least as far as K. When a vertex of K is
+  // clear of every triangle not incident to it by more than |x - vertex| +
+  // d(x, K), only its own fan can hold a closer triangle: that fan alone is
+  // searched, and K is the closest of all when none there is closer.
   int steps = 0;
+  auto closer_among = [&](int v, double rK, int& best, double& bd) {
+    for (int i = D.vt_first[v]; i < D.vt_first[v + 1]; ++i) {
+      const int t = D.vt[i];
+      if (tmark_[t] == stamp_) continue;
+      tmark_[t] = stamp_;
+      // A triangle whose bounding ball is as far as K cannot be closer:
+      // marked as evaluated without the exact distance.
+      const Data::Tri& T = D.tri[static_cast<std::size_t>(t)];
+      const double reach = rK + T.r;
+      if (norm2(x - T.c) >= reach * reach) continue;
+      const double d = D.tri_d2(x, t);
+      if (d < bd) {
+        bd = d;
+        best = t;
+      }
+    }
+  };
   for (;;) {
     int best = -1;
     double bd = INFINITY;
     const int* v = D.tv(K);
     const double rK = std::sqrt(dK);
-    for (int k = 0; k < 3; ++k) {
-      for (int i = D.vt_first[v[k]]; i < D.vt_first[v[k] + 1]; ++i) {
-        const int t = D.vt[i];
-        if (tmark_[t] == stamp_) continue;
-        tmark_[t] = stamp_;
-        // A triangle whose bounding ball is as far as K cannot be closer:
-        // marked as evaluated without the exact distance.
-        const Data::Tri& T = D.tri[static_cast<std::size_t>(t)];
-        const double reach = rK + T.r;
-        if (norm2(x - T.c) >= reach * reach) continue;
-        const double d = D.tri_d2(x, t);
-        if (d < bd) {
-          bd = d;
-          best = t;
-        }
-      }
+    int clear_vertex = -1;
+    for (int k = 0; k < 3 && clear_vertex < 0; ++k)
+      if (norm(x - D.pos(K, k)) + rK <= D.vclear[v[k]]) clear_vertex = v[k];
+    if (clear_vertex >= 0) {
+      closer_among(clear_vertex, rK, best, bd);
+      if (best < 0 || !(bd < dK)) return free_result(x, K, steps, false);
+    } else {
+      for (int k = 0; k < 3; ++k) closer_among(v[k], rK, best, bd);
+      if (best < 0 || !(bd < dK)) break;  // local minimum: every triangle of E(K) evaluated
     }
-    if (best < 0 || !(bd < dK)) break;  // local minimum: every triangle of E(K) evaluated
     K = best;
     dK = bd;
     if (++steps >= D.options.max_steps) return global(K, dK, steps);
   }
-  const Vec3 pK[3] = {D.pos(K, 0), D.pos(K, 1), D.pos(K, 2)};
-  if (Data::certified(x, std::sqrt(dK), D.tv(K), pK, 3, D.vclear))
-    return free_result(x, K, steps, false);
   return global(K, dK, steps);
 }
 
