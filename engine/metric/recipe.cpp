@@ -148,7 +148,8 @@ MetricResult build_metric(const SurfaceMesh& mesh, MetricRecipe r, const std::ve
   for (int step = 0;; ++step) {
     MetricField M = source_metric(mesh, r, origin, out.hessian, asked);
     out.gradation = finish_metric(mesh, r, M, deviation);
-    const double predicted = predicted_vertices(mesh, M);
+    out.complexity = metric_complexity(mesh, M);
+    const double predicted = predicted_vertices(mesh, M, out.complexity);
     out.metric = std::move(M);
     out.predicted_vertices = predicted;
     out.scaling_steps = step;
@@ -158,7 +159,6 @@ MetricResult build_metric(const SurfaceMesh& mesh, MetricRecipe r, const std::ve
     asked *= target / predicted;
   }
   check_metric_field(mesh, out.metric, origin);
-  out.complexity = metric_complexity(mesh, out.metric);
   out.description = source_description(r);
   if (has_bounds(r.bounds)) out.description += ", bounded";
   if (!deviation.empty()) out.description += ", intersected with hausd " + number(r.hausd);

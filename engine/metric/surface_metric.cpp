@@ -2,8 +2,11 @@
 
 #include "metric/length.h"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
+
+#include "geometry/parallel_chunks.h"
 
 namespace anisurf {
 
@@ -63,10 +66,40 @@ double metric_complexity(const SurfaceMesh& mesh, const std::function<SymTensor3
 }
 
 double metric_complexity(const SurfaceMesh& mesh, const MetricField& metric) {
-  return metric_complexity(mesh, [&metric](Vertex v) -> SymTensor3 { return metric[v.idx]; });
+  // Blocks of triangle slots on the threads, their sums added in block
+  // order: the same value for any thread count.
+  constexpr int kBlock = 1 << 15;
+  const int n = mesh.triangle_capacity();
+  const int blocks = (n + kBlock - 1) / kBlock;
+  std::vector<double> sums(static_cast<std::size_t>(blocks), 0.0);
+  run_chunks(blocks, chunk_count(blocks, 1), [&](int, int begin, int end) {
+    for (int b = begin; b < end; ++b) {
+      double c = 0;
+      for (int i = b * kBlock, last = std::min(n, (b + 1) * kBlock); i < last; ++i) {
+        const Triangle t(i);
+        if (mesh.is_deleted(t)) continue;
+        const Vec3 tn = mesh.triangle_normal(t);
+        const double area2 = norm(tn);
+        if (!(area2 > 0)) continue;
+        const auto frame = tangent_frame(tn / area2);
+        double s = 0;
+        for (int k = 0; k < 3; ++k)
+          s += std::sqrt(max_of(det(restrict_to_tangent(metric[mesh.vertex(t, k).idx], frame[0], frame[1])), 0.0));
+        c += 0.5 * area2 * s / 3.0;
+      }
+      sums[static_cast<std::size_t>(b)] = c;
+    }
+  });
+  double c = 0;
+  for (double x : sums) c += x;
+  return c;
 }
 
 double predicted_vertices(const SurfaceMesh& mesh, const MetricField& metric) {
+  return predicted_vertices(mesh, metric, metric_complexity(mesh, metric));
+}
+
+double predicted_vertices(const SurfaceMesh& mesh, const MetricField& metric, double complexity) {
   double boundary = 0;
   int corners = 0, boundary_edges = 0;
   for (Triangle t : mesh.triangles()) {
@@ -82,7 +115,7 @@ double predicted_vertices(const SurfaceMesh& mesh, const MetricField& metric) {
   }
   const int edges = (corners + boundary_edges) / 2;
   const int euler = mesh.n_vertices() - edges + mesh.n_triangles();
-  return std::max(predicted_vertex_count(metric_complexity(mesh, metric)) + 0.5 * boundary + euler, 3.0);
+  return std::max(predicted_vertex_count(complexity) + 0.5 * boundary + euler, 3.0);
 }
 
 }  // namespace anisurf

@@ -43,6 +43,8 @@ inline double predicted_vertex_count(double complexity) { return 2.0 * complexit
 // On a strongly stretched metric over an open surface the boundary term is
 // large (a unit square with 100 x^2: 54 -> 122).
 double predicted_vertices(const SurfaceMesh& mesh, const MetricField& metric);
+// The same with the metric's complexity already measured.
+double predicted_vertices(const SurfaceMesh& mesh, const MetricField& metric, double complexity);
 // The inverse: complexity asked for N vertices.
 inline double complexity_for_vertices(double n_vertices) { return 0.5 * std::sqrt(3.0) * n_vertices; }
 

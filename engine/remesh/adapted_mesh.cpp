@@ -5,6 +5,7 @@
 #include <deque>
 
 #include "geometry/features.h"
+#include "geometry/parallel_chunks.h"
 #include "locate/closest_point.h"
 #include "mesh/operators.h"
 #include "metric/quality.h"
@@ -31,10 +32,26 @@ AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, Control
   mark_rough_triangles();
   measure_sagitta();
 
-  // Initial locations by propagation (section 4.3): breadth-first over T_1,
-  // each vertex searched from the hints of the neighbour that reached it.
-  // Positions are kept (T_1 starts on the geometry) unless project_initial.
-  std::vector<char> seen(static_cast<std::size_t>(mesh_.vertex_capacity()), 0);
+  // Initial locations. T_1's vertices that are T_G's own (T_1 starts as a
+  // copy of T_G) are located there, in parallel chunks when T_0 is T_G too
+  // (nothing is searched). The others by propagation (section 4.3):
+  // breadth-first over T_1, each vertex searched from the hints of the
+  // neighbours already located. Positions are kept (T_1 starts on the
+  // geometry) unless project_initial.
+  const int nv = mesh_.vertex_capacity();
+  std::vector<char> seen(static_cast<std::size_t>(nv), 0);
+  if (!project_initial && control_.is_geometry()) {
+    run_chunks(nv, chunk_count(nv, 16384), [&](int, int begin, int end) {
+      for (int i = begin; i < end; ++i) {
+        const Vertex v(i);
+        if (mesh_.is_deleted(v) || mesh_.is_isolated(v)) continue;
+        std::optional<Placement> p = place_at_input_vertex(v, mesh_.position(v), kind(v));
+        if (!p) continue;
+        commit(v, *p);
+        seen[v.idx] = 2;
+      }
+    });
+  }
   std::deque<Vertex> queue;
   for (Vertex seed : mesh_.vertices()) {
     if (mesh_.is_isolated(seed) || seen[seed.idx]) continue;

@@ -5,6 +5,7 @@
 #include <cassert>
 
 #include "geometry/normals.h"
+#include "geometry/parallel_chunks.h"
 #include "locate/interpolate.h"
 #include "locate/surface_projection.h"
 #include "mesh/operators.h"
@@ -89,8 +90,13 @@ ControlSpace::ControlSpace(const SurfaceMesh& mesh, MetricField metric, bool sam
                            MetricInterpolation interpolation, const std::string& metric_field_name)
     : mesh_(mesh), interpolation_(interpolation) {
   assert(static_cast<int>(metric.size()) >= mesh.vertex_capacity());
-  if (interpolation_ != MetricInterpolation::Linear)
-    for (SymTensor3& M : metric) M = to_interpolation_space(M, interpolation_);
+  complexity_ = metric_complexity(mesh, metric);
+  if (interpolation_ != MetricInterpolation::Linear) {
+    const int n = static_cast<int>(metric.size());
+    run_chunks(n, chunk_count(n, 16384), [&](int, int begin, int end) {
+      for (int i = begin; i < end; ++i) metric[i] = to_interpolation_space(metric[i], interpolation_);
+    });
+  }
   target_ = std::make_shared<const MetricField>(std::move(metric));
   if (!same_as_geometry) locator_ = std::make_unique<Locator>(mesh);
   for (const FieldInfo& f : mesh.fields()) {
@@ -142,13 +148,7 @@ MetricField ControlSpace::metric() const { return from_space(in_use(), interpola
 
 MetricField ControlSpace::target_metric() const { return from_space(*target_, interpolation_); }
 
-double ControlSpace::target_complexity() const {
-  std::call_once(complexity_->once, [this] {
-    complexity_->value =
-        metric_complexity(mesh_, [this](Vertex v) { return from_interpolation_space((*target_)[v.idx], interpolation_); });
-  });
-  return complexity_->value;
-}
+double ControlSpace::target_complexity() const { return complexity_; }
 
 ControlSpace::ControlSpace(const ControlSpace& o)
     : mesh_(o.mesh_),

@@ -140,6 +140,9 @@ class ControlSpace {
   // Location of x in T_0, from a hint; `on_geometry` is x's location on T_G,
   // used as is when T_0 is T_G.
   Location locate(const Vec3& x, Hint hint, const Location& on_geometry);
+  // True when T_0 is T_G: locate() then searches nothing (and may be called
+  // from several threads).
+  bool is_geometry() const { return !locator_; }
   // Metric and solution interpolated at a location of T_0.
   ControlValues values_at(const Location& where) const;
   SymTensor3 metric_at(const Location& where) const;
@@ -175,11 +178,7 @@ class ControlSpace {
   const MetricField& in_use() const { return relaxed_.empty() ? *target_ : relaxed_; }
   MetricInterpolation interpolation_;
   std::shared_ptr<const MetricField> target_;  // shared with the copies for other threads
-  struct Complexity {
-    std::once_flag once;
-    double value = 0;
-  };
-  std::shared_ptr<Complexity> complexity_ = std::make_shared<Complexity>();  // of target_, shared with the copies
+  double complexity_ = 0;  // of target_ (computed before its conversion to the interpolation space)
   MetricField relaxed_;  // the metric in use while relaxed (empty otherwise: the target, not copied)
   MetricField implied_;  // M_0 of set_relaxation (a metric), computed on first use
   std::unique_ptr<Locator> locator_;  // null when T_0 is T_G
