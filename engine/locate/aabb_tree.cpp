@@ -149,7 +149,9 @@ void AabbTree::build(const std::vector<BBox>& boxes) {
     tasks.push_back({left + 1, mid, task.end, task.depth + 1});
     tasks.push_back({left, task.begin, mid, task.depth + 1});
   }
-  nodes_.shrink_to_fit();  // reserved for the worst case (2 per primitive)
+  // Reserved for the worst case (2 per primitive): the capacity never
+  // written is address space, not memory, and a tight copy would briefly
+  // hold the nodes twice.
 }
 
 }  // namespace anisurf

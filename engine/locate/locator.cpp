@@ -103,24 +103,32 @@ void Locator::Data::build_triangles() {
   const SurfaceMesh& m = *mesh;
   n_slots = m.triangle_capacity();
   tri.assign(static_cast<std::size_t>(n_slots), Tri());
-  std::vector<BBox> boxes(static_cast<std::size_t>(n_slots));
-  std::vector<std::array<int, 2>> pairs;
-  pairs.reserve(3 * static_cast<std::size_t>(n_slots));
-  for (Triangle th : m.triangles()) {
-    const int t = th.idx;
-    Vec3 p[3];
-    for (int k = 0; k < 3; ++k) {
-      const Vertex v = m.vertex(th, k);
-      p[k] = m.position(v);
-      pairs.push_back({v.idx, t});
-    }
-    boxes[t] = box_of(p, 3);
-    Tri& T = tri[t];
-    T.c = (p[0] + p[1] + p[2]) / 3.0;
-    T.r = std::max({norm(p[0] - T.c), norm(p[1] - T.c), norm(p[2] - T.c)}) * (1 + 1e-12);
+  // The triangles of each vertex (compressed rows, in triangle order).
+  const int n_vertices = m.vertex_capacity();
+  vt_first.assign(static_cast<std::size_t>(n_vertices) + 1, 0);
+  for (Triangle th : m.triangles())
+    for (int k = 0; k < 3; ++k) ++vt_first[static_cast<std::size_t>(m.vertex(th, k).idx) + 1];
+  for (int i = 0; i < n_vertices; ++i) vt_first[i + 1] += vt_first[i];
+  vt.assign(static_cast<std::size_t>(vt_first.back()), 0);
+  {
+    std::vector<int> fill(vt_first.begin(), vt_first.end() - 1);
+    for (Triangle th : m.triangles())
+      for (int k = 0; k < 3; ++k) vt[static_cast<std::size_t>(fill[m.vertex(th, k).idx]++)] = th.idx;
   }
-  build_csr(m.vertex_capacity(), pairs, vt_first, vt);
-  tree.build(boxes);
+  {
+    // The boxes live only while the tree is built.
+    std::vector<BBox> boxes(static_cast<std::size_t>(n_slots));
+    for (Triangle th : m.triangles()) {
+      const int t = th.idx;
+      Vec3 p[3];
+      for (int k = 0; k < 3; ++k) p[k] = m.position(m.vertex(th, k));
+      boxes[t] = box_of(p, 3);
+      Tri& T = tri[t];
+      T.c = (p[0] + p[1] + p[2]) / 3.0;
+      T.r = std::max({norm(p[0] - T.c), norm(p[1] - T.c), norm(p[2] - T.c)}) * (1 + 1e-12);
+    }
+    tree.build(boxes);
+  }
 
   // Clearance of each vertex: the distance to the nearest triangle not
   // incident to it (vertices in parallel chunks: each one its own query).

@@ -46,6 +46,13 @@ std::vector<PassReport> remesh_region(AdaptedMesh& whole, Region& r, GeometrySur
   });
   tag_region(passes, index);
   r.mesh = std::move(part.mesh());
+  // A coarsened region would hold the capacity of its cut until it is
+  // pasted: compacted (live slots keep their order; the paste finds the
+  // whole's vertices by the origin property) into a tight copy.
+  if (2 * static_cast<long long>(r.mesh.n_vertices()) < r.mesh.vertex_capacity()) {
+    r.mesh.compact();
+    r.mesh = SurfaceMesh(r.mesh);
+  }
   return passes;
 }
 
