@@ -50,18 +50,27 @@ std::vector<Vec3> vertex_normals(const SurfaceMesh& mesh) {
   return n;
 }
 
+namespace {
+
+// Triangle t's share of the complexity: its area times the mean of
+// sqrt(det) of its vertices' metrics restricted to its plane.
+template <class MetricAt>
+double triangle_complexity(const SurfaceMesh& mesh, Triangle t, const MetricAt& metric_at) {
+  const Vec3 tn = mesh.triangle_normal(t);
+  const double area2 = norm(tn);
+  if (!(area2 > 0)) return 0;
+  const auto frame = tangent_frame(tn / area2);
+  double s = 0;
+  for (int k = 0; k < 3; ++k)
+    s += std::sqrt(max_of(det(restrict_to_tangent(metric_at(mesh.vertex(t, k)), frame[0], frame[1])), 0.0));
+  return 0.5 * area2 * s / 3.0;
+}
+
+}  // namespace
+
 double metric_complexity(const SurfaceMesh& mesh, const std::function<SymTensor3(Vertex)>& metric_at) {
   double c = 0;
-  for (Triangle t : mesh.triangles()) {
-    const Vec3 tn = mesh.triangle_normal(t);
-    const double area2 = norm(tn);
-    if (!(area2 > 0)) continue;
-    const auto frame = tangent_frame(tn / area2);
-    double s = 0;
-    for (int k = 0; k < 3; ++k)
-      s += std::sqrt(max_of(det(restrict_to_tangent(metric_at(mesh.vertex(t, k)), frame[0], frame[1])), 0.0));
-    c += 0.5 * area2 * s / 3.0;
-  }
+  for (Triangle t : mesh.triangles()) c += triangle_complexity(mesh, t, metric_at);
   return c;
 }
 
@@ -71,22 +80,13 @@ double metric_complexity(const SurfaceMesh& mesh, const MetricField& metric) {
   constexpr int kBlock = 1 << 15;
   const int n = mesh.triangle_capacity();
   const int blocks = (n + kBlock - 1) / kBlock;
+  const auto metric_at = [&metric](Vertex v) -> const SymTensor3& { return metric[v.idx]; };
   std::vector<double> sums(static_cast<std::size_t>(blocks), 0.0);
   run_chunks(blocks, chunk_count(blocks, 1), [&](int, int begin, int end) {
     for (int b = begin; b < end; ++b) {
       double c = 0;
-      for (int i = b * kBlock, last = std::min(n, (b + 1) * kBlock); i < last; ++i) {
-        const Triangle t(i);
-        if (mesh.is_deleted(t)) continue;
-        const Vec3 tn = mesh.triangle_normal(t);
-        const double area2 = norm(tn);
-        if (!(area2 > 0)) continue;
-        const auto frame = tangent_frame(tn / area2);
-        double s = 0;
-        for (int k = 0; k < 3; ++k)
-          s += std::sqrt(max_of(det(restrict_to_tangent(metric[mesh.vertex(t, k).idx], frame[0], frame[1])), 0.0));
-        c += 0.5 * area2 * s / 3.0;
-      }
+      for (int i = b * kBlock, last = std::min(n, (b + 1) * kBlock); i < last; ++i)
+        if (!mesh.is_deleted(Triangle(i))) c += triangle_complexity(mesh, Triangle(i), metric_at);
       sums[static_cast<std::size_t>(b)] = c;
     }
   });
