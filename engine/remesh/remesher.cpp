@@ -287,6 +287,9 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
   const OperatorOptions& o = options_.op;
   EdgeHeap<typename Edges::Order> heap(heap_);
   auto sags = [this](Vertex a, Vertex b) { return edge_sags(a, b); };
+  // Room for every edge at once: a heap grown by doubling holds its old and
+  // new storage together at each step.
+  heap_.reserve(static_cast<std::size_t>(mesh.n_triangles()) * 3 / 2 + 16);
   for (Corner c : mesh.edges()) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     const double l = mesh_.length(a, b);
@@ -357,18 +360,26 @@ void Remesher::collapse_pass(PassReport& r) { priority_pass<CollapseEdges>(r, tr
 
 void Remesher::swap_pass(PassReport& r) {
   SurfaceMesh& mesh = mesh_.mesh();
-  std::deque<std::array<int, 3>> queue;  // a, b, the corner naming a -> b when queued
+  // First in, first out: a, b, the corner naming a -> b when queued. One
+  // array (its memory goes back to the system with it; a deque's small
+  // blocks stay with the allocator), its consumed front dropped as it grows.
+  std::vector<std::array<int, 3>> queue;
+  std::size_t head = 0;
   std::vector<std::uint8_t> active(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
   swap_active_.resize(active.size(), 0);
   active.swap(swap_active_);
+  queue.reserve(static_cast<std::size_t>(mesh.n_triangles()) * 3 / 2 + 16);
   for (Corner c : mesh.edges()) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     if (!mesh.is_boundary_edge(c) && (active[a.idx] || active[b.idx])) queue.push_back({a.idx, b.idx, c.idx});
   }
   long long budget = static_cast<long long>(options_.max_swap_visits) * static_cast<long long>(queue.size()) + 16;
-  while (!queue.empty() && budget-- > 0 && !interrupted(r)) {
-    const auto e = queue.front();
-    queue.pop_front();
+  while (head < queue.size() && budget-- > 0 && !interrupted(r)) {
+    const auto e = queue[head++];
+    if (head >= 4096 && 2 * head >= queue.size()) {
+      queue.erase(queue.begin(), queue.begin() + static_cast<std::ptrdiff_t>(head));
+      head = 0;
+    }
     const Corner c = edge_corner(mesh, e[2], Vertex(e[0]), Vertex(e[1]));
     if (!c.is_valid()) continue;
     const SwapPlan plan = can_swap(mesh_, c, options_.op);
