@@ -93,25 +93,54 @@ Vec3 reliable_normal(const SurfaceMesh& mesh, Triangle t) {
 // input is fine for hausd (theta below about 2 sqrt(2 hausd kappa)) the
 // curvature asks for more; on a coarse tessellation (facets sagging by more
 // than about hausd / 4 from the smooth surface) the output follows its folds.
+// A crease asks at most 1 / h^2 in any direction: a vertex whose metric's
+// smallest eigenvalue is already that large keeps its metric (the
+// eigenvalues only grow by intersections, so the first ones bound them).
 void intersect_crease_metrics(const SurfaceMesh& mesh, double hausd, double floor, double scale, MetricField& M) {
   const double floor_value = scale * floor;  // 1 / hmax^2
-  for (Corner c : mesh.edges()) {
-    if (is_feature_edge(mesh, c)) continue;
-    const Corner o = mesh.opposite(c);
-    if (!o.is_valid()) continue;
-    const Vec3 n1 = reliable_normal(mesh, SurfaceMesh::triangle(c)), n2 = reliable_normal(mesh, SurfaceMesh::triangle(o));
-    if (norm2(n1) == 0 || norm2(n2) == 0) continue;
-    const double half_sin = 0.5 * norm(n1 - n2);  // sin(theta / 2)
-    const double h = 2.0 * hausd / half_sin;
-    if (!(1.0 / (h * h) > floor_value)) continue;
-    const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
-    const Vec3 across = normalized(cross(normalized(n1 + n2), mesh.position(b) - mesh.position(a)));
-    if (norm2(across) == 0) continue;
-    const SymTensor3 uu = SymTensor3::outer(across);
-    const SymTensor3 crease = (1.0 / (h * h)) * uu + floor_value * (SymTensor3::identity() - uu);
-    M[a.idx] = intersect(M[a.idx], crease);
-    M[b.idx] = intersect(M[b.idx], crease);
-  }
+  const int nv = static_cast<int>(M.size());
+  std::vector<double> smallest(M.size(), 0.0);
+  run_chunks(nv, chunk_count(nv, 8192), [&](int, int begin, int end) {
+    for (int i = begin; i < end; ++i)  // less its round-off: a bound from below
+      smallest[i] = smallest_eigenvalue(M[i]) - 1e-12 * frobenius_norm(M[i]);
+  });
+  // The creases that ask more than a first metric at an end, found in
+  // parallel chunks of the corners, applied in the order of the edges.
+  struct Crease {
+    Corner edge;
+    double demand;
+    Vec3 across;
+  };
+  const int nc = 3 * mesh.triangle_capacity();
+  const int chunks = chunk_count(nc, 3 * 8192);
+  std::vector<std::vector<Crease>> found(static_cast<std::size_t>(chunks));
+  run_chunks(nc, chunks, [&](int chunk, int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      const Corner c(i);
+      if (!mesh.is_edge_corner(c) || is_feature_edge(mesh, c)) continue;
+      const Corner o = mesh.opposite(c);
+      if (!o.is_valid()) continue;
+      const Vec3 n1 = reliable_normal(mesh, SurfaceMesh::triangle(c));
+      const Vec3 n2 = reliable_normal(mesh, SurfaceMesh::triangle(o));
+      if (norm2(n1) == 0 || norm2(n2) == 0) continue;
+      const double half_sin = 0.5 * norm(n1 - n2);  // sin(theta / 2)
+      const double h = 2.0 * hausd / half_sin;
+      const double demand = 1.0 / (h * h);
+      if (!(demand > floor_value)) continue;
+      const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
+      if (demand <= smallest[a.idx] && demand <= smallest[b.idx]) continue;
+      const Vec3 across = normalized(cross(normalized(n1 + n2), mesh.position(b) - mesh.position(a)));
+      if (norm2(across) == 0) continue;
+      found[static_cast<std::size_t>(chunk)].push_back({c, demand, across});
+    }
+  });
+  for (const std::vector<Crease>& part : found)
+    for (const Crease& k : part) {
+      const SymTensor3 uu = SymTensor3::outer(k.across);
+      const SymTensor3 crease = k.demand * uu + floor_value * (SymTensor3::identity() - uu);
+      for (Vertex v : {mesh.edge_from(k.edge), mesh.edge_to(k.edge)})
+        if (k.demand > smallest[v.idx]) M[v.idx] = intersect(M[v.idx], crease);
+    }
 }
 
 }  // namespace

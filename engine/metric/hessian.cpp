@@ -198,12 +198,16 @@ class PivotedQR {
     m_ = static_cast<int>(A.rows());
     n_ = static_cast<int>(A.cols());
     qr_.assign(A.data(), A.data() + static_cast<std::ptrdiff_t>(m_) * n_);
+    for (int j = 0; j < n_; ++j) exact_norm2_[j] = norm2_[j] = tail_norm2(j, 0);
     double largest = 0;
     for (int k = 0; k < n_; ++k) {
       swap_columns(k, column_of_largest_norm(k));
       diagonal_[k] = reflect_column(k);
       largest = max_of(largest, std::fabs(diagonal_[k]));
-      for (int j = k + 1; j < n_; ++j) apply_reflector(k, column(j));
+      for (int j = k + 1; j < n_; ++j) {
+        apply_reflector(k, column(j));
+        downdate_norm(j, k);
+      }
     }
     for (int k = 0; k < n_; ++k)
       if (!(std::fabs(diagonal_[k]) > threshold * largest)) return false;
@@ -226,20 +230,29 @@ class PivotedQR {
  private:
   double* column(int j) { return qr_.data() + static_cast<std::ptrdiff_t>(j) * m_; }
 
+  // The squared norm of rows k.. of column j.
+  double tail_norm2(int j, int k) {
+    const double* c = column(j);
+    double sum = 0;
+    for (int i = k; i < m_; ++i) sum += c[i] * c[i];
+    return sum;
+  }
+
   // Among columns k.., the one whose rows k.. have the largest norm.
-  int column_of_largest_norm(int k) {
+  int column_of_largest_norm(int k) const {
     int best = k;
-    double best_norm2 = -1;
-    for (int j = k; j < n_; ++j) {
-      const double* c = column(j);
-      double norm2 = 0;
-      for (int i = k; i < m_; ++i) norm2 += c[i] * c[i];
-      if (norm2 > best_norm2) {
-        best_norm2 = norm2;
-        best = j;
-      }
-    }
+    for (int j = k + 1; j < n_; ++j)
+      if (norm2_[j] > norm2_[best]) best = j;
     return best;
+  }
+
+  // After step k: the norm of rows k+1.. of column j is that of rows k..
+  // less row k's entry, computed again when the difference has lost half of
+  // its digits to the cancellation.
+  void downdate_norm(int j, int k) {
+    const double r = column(j)[k];
+    norm2_[j] -= r * r;
+    if (norm2_[j] <= 1e-8 * exact_norm2_[j]) exact_norm2_[j] = norm2_[j] = tail_norm2(j, k + 1);
   }
 
   void swap_columns(int k, int j) {
@@ -247,6 +260,8 @@ class PivotedQR {
     if (j == k) return;
     std::swap_ranges(column(k), column(k) + m_, column(j));
     std::swap(permutation_[k], permutation_[j]);
+    std::swap(norm2_[k], norm2_[j]);
+    std::swap(exact_norm2_[k], exact_norm2_[j]);
   }
 
   // Turns rows k.. of column k into (beta, 0, ...) by the reflector
@@ -282,6 +297,9 @@ class PivotedQR {
   int m_ = 0, n_ = 0;
   std::vector<double> qr_, rhs_;
   std::array<double, kMaxColumns> tau_{}, diagonal_{};
+  // Per column: the squared norm of its rows below the current step, and
+  // that norm when it was last summed from the entries.
+  std::array<double, kMaxColumns> norm2_{}, exact_norm2_{};
   std::array<int, kMaxColumns> permutation_{};
 };
 

@@ -367,6 +367,8 @@ double largest_generalized_eigenvalue(const SymTensor3& A, const SymTensor3& B) 
 
 double largest_eigenvalue(const SymTensor3& M) { return direct_eigen_decompose(M).values[2]; }
 
+double smallest_eigenvalue(const SymTensor3& M) { return direct_eigen_decompose(M).values[0]; }
+
 SymTensor3 intersect(const SymTensor3& M1, const SymTensor3& M2) {
   Mat3 L;
   if (!cholesky(M1, L)) return M2;

@@ -205,6 +205,9 @@ double largest_generalized_eigenvalue(const SymTensor3& A, const SymTensor3& B);
 // solution, refined as a Rayleigh quotient): accurate to round-off relative
 // to the largest |eigenvalue|, repeated eigenvalues included.
 double largest_eigenvalue(const SymTensor3& M);
+// The smallest eigenvalue of M, the same way: round-off relative to the
+// largest |eigenvalue|.
+double smallest_eigenvalue(const SymTensor3& M);
 
 // Intersection by simultaneous reduction: in the basis where M1 = I and M2 =
 // diag(d_i), the result is diag(max(1, d_i)): the largest ellipsoid (in that
