@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <deque>
 
 #include "geometry/parallel_chunks.h"
@@ -21,9 +22,13 @@ struct Locator::Data {
   const int* tv(int t) const { return mesh->triangle_vertices(Triangle(t)); }
   // Per slot: a bounding ball (centroid, radius); the positions are the
   // mesh's (through tv), not copied.
+  // A ball holding the triangle, in single precision (16 bytes): the
+  // centre rounded, the radius measured from the rounded centre and rounded
+  // up, so the ball still holds it and distances to it stay lower bounds.
   struct Tri {
-    Vec3 c;
-    double r = 0;
+    float c[3] = {0, 0, 0};
+    float r = 0;
+    Vec3 centre() const { return {c[0], c[1], c[2]}; }
   };
   std::vector<Tri> tri;
   std::vector<int> vt_first, vt;  // vertex -> incident triangles (CSR)
@@ -124,8 +129,12 @@ void Locator::Data::build_triangles() {
       for (int k = 0; k < 3; ++k) p[k] = m.position(m.vertex(th, k));
       boxes[t] = box_of(p, 3);
       Tri& T = tri[t];
-      T.c = (p[0] + p[1] + p[2]) / 3.0;
-      T.r = std::max({norm(p[0] - T.c), norm(p[1] - T.c), norm(p[2] - T.c)}) * (1 + 1e-12);
+      const Vec3 c = (p[0] + p[1] + p[2]) / 3.0;
+      for (int k = 0; k < 3; ++k) T.c[k] = static_cast<float>(c[k]);
+      const Vec3 cf = T.centre();
+      const double r = std::max({norm(p[0] - cf), norm(p[1] - cf), norm(p[2] - cf)});
+      T.r = std::nextafter(static_cast<float>(r * (1 + 1e-6)), INFINITY);
+      if (!std::isfinite(T.r)) T = Tri{{0, 0, 0}, INFINITY};  // beyond single precision: never culls
     }
     tree.build(boxes);
   }
@@ -311,7 +320,7 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
       // marked as evaluated without the exact distance.
       const Data::Tri& T = D.tri[static_cast<std::size_t>(t)];
       const double reach = rK + T.r;
-      if (norm2(x - T.c) >= reach * reach) continue;
+      if (norm2(x - T.centre()) >= reach * reach) continue;
       const double d = D.tri_d2(x, t);
       if (d < bd) {
         bd = d;
