@@ -33,7 +33,8 @@ struct ParallelOptions {
   int band_rings = 4;  // step 3: rings around the borders remeshed again
 };
 
-// The number of regions run_in_regions() uses for `m` (1: serial).
+// The number of regions run_in_regions() uses for `m` (1: serial; above the
+// thread count, a multiple of it).
 int region_count(const AdaptedMesh& m, const ParallelOptions& p);
 
 // Remesher::run() over the regions (see the top of this file); returns the
