@@ -15,6 +15,7 @@
 #include "remesh/adapt.h"
 #include "remesh/parallel.h"
 #include "remesh/partition.h"
+#include "remesh/partition.h"
 #include "test_util.h"
 
 using namespace anisurf;
@@ -117,7 +118,8 @@ TEST_CASE("remesh by regions: valid, in band, uninverted, like the serial run, t
     auto s = make_setup(test::asset_file("demo.mesh"), 0.05);
     ParallelOptions p;
     p.threads = threads;
-    p.min_region_work = 500;  // the demo is small: regions anyway
+    p.min_region_work = 500;  // the demo is small: regions anyway, two rounds of them
+    p.min_round_work = 500;
     RemeshOptions o = band_remesh_options();
     const int regions_expected = region_count(*s->adapted, p);
     std::vector<PassReport> passes = run_in_regions(*s->adapted, o, p);
@@ -146,6 +148,34 @@ TEST_CASE("remesh by regions: valid, in band, uninverted, like the serial run, t
     CHECK(std::abs(state.vertices - serial.vertices) <= 0.05 * serial.vertices);
     const auto again = run(threads);
     CHECK(std::get<2>(again) == pos);
+  }
+}
+
+TEST_CASE("region count: one round of regions for a small work, whole rounds beyond it") {
+  auto s = make_setup(test::asset_file("demo.mesh"), 0.05);
+  double work = 0;
+  for (Triangle t : s->adapted->mesh().triangles()) work += triangle_work(*s->adapted, t);
+  REQUIRE(work > 100);
+  for (int threads : {2, 3, 4}) {
+    CAPTURE(threads);
+    ParallelOptions p;
+    p.threads = threads;
+    p.min_region_work = 2 * work;  // not even one region's worth each: serial
+    CHECK(region_count(*s->adapted, p) == 1);
+    p.min_region_work = work / 2.5;  // two regions' worth
+    CHECK(region_count(*s->adapted, p) == std::min(2, threads));
+    p.min_region_work = work / 100;
+    p.min_round_work = 2 * work;  // one round, however many regions the work allows
+    CHECK(region_count(*s->adapted, p) == threads);
+    for (double share : {1.5, 2.5, 3.5, 5.5, 7.5, 100.0}) {  // beyond: whole rounds, at most regions_per_thread
+      CAPTURE(share);
+      p.min_round_work = work / share;
+      const int n = region_count(*s->adapted, p);
+      CHECK(n % threads == 0);
+      CHECK(n >= threads);
+      CHECK(n <= threads * p.regions_per_thread);
+      CHECK(n <= std::max(threads, static_cast<int>(share)));
+    }
   }
 }
 

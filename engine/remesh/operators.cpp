@@ -42,8 +42,10 @@ struct Limits {
 // A triangle whose height is below this fraction of its longest edge is
 // degenerate: its normal is rounding noise or says nothing of the surface
 // (an input's slivers). No operator makes one out of a better triangle
-// (degenerate_limit).
-constexpr double kDegenerateHeight = 1e-6;
+// (degenerate_limit). 1e-4, an angle of 0.006 degrees: at 1e-6, a vertex a
+// hair off a straight ridge and two of the ridge's points passed for a
+// triangle (q = 0, its ridge edge then too flat to split).
+constexpr double kDegenerateHeight = 1e-4;
 constexpr double kDegenerateFloor = 1e-12;
 
 // Height over longest edge of triangle (a, b, c).

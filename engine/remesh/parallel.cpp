@@ -115,12 +115,14 @@ int region_count(const AdaptedMesh& m, const ParallelOptions& p) {
   if (p.threads <= 1) return 1;
   double work = 0;
   for (Triangle t : m.mesh().triangles()) work += triangle_work(m, t);
-  const double per_region = std::max(p.min_region_work, 1.0);
-  const int n = std::clamp(static_cast<int>(work / per_region), 1, p.threads * std::max(p.regions_per_thread, 1));
+  const int one_round = std::clamp(static_cast<int>(work / std::max(p.min_region_work, 1.0)), 1, p.threads);
+  if (one_round < p.threads) return one_round;
+  const int n = std::clamp(static_cast<int>(work / std::max(p.min_round_work, 1.0)), p.threads,
+                           p.threads * std::max(p.regions_per_thread, 1));
   // Beyond one round, whole rounds: a last region alone on one thread
   // leaves the others idle (3 regions on 2 threads take 2 rounds of a third
   // each, 2 regions 1 round of a half).
-  return n > p.threads ? n / p.threads * p.threads : n;
+  return n / p.threads * p.threads;
 }
 
 std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& options, const ParallelOptions& p,

@@ -28,8 +28,11 @@ struct ParallelOptions {
   int regions_per_thread = 2;
   // Each region needs at least this much predicted work (triangle_work:
   // about the triangles it holds and will hold): a smaller mesh is remeshed
-  // by fewer regions.
-  double min_region_work = 20000;
+  // by fewer regions. One round (a region per thread) asks min_region_work
+  // of each; more regions than threads, min_round_work of each (every region
+  // adds a border to remesh again in the band, serially).
+  double min_region_work = 8000;
+  double min_round_work = 20000;
   int band_rings = 4;  // step 3: rings around the borders remeshed again
 };
 
