@@ -260,18 +260,26 @@ Vec3 split_point(const AdaptedMesh& m, Vertex b, Vertex d, const OperatorOptions
 // The one or two triangles of edge c, halved at x (surface normal
 // `surface_n` there, zero on a curve): check_triangle against the triangle
 // each replaces.
-Rejection check_halves(const AdaptedMesh& m, Corner c, const Vec3& x, const Vec3& surface_n, const Limits& lim) {
+Rejection check_halves(const AdaptedMesh& m, Corner c, const Vec3& x, const Vec3& surface_n, const Limits& lim,
+                       bool straight_above = false) {
   const SurfaceMesh& mesh = m.mesh();
   // The point halves the edge: within a tenth of its length of an end, or
   // of a vertex opposite the edge, it would only add a needle or a cap (a
   // projection or T_G's closest point drawn to a point already taken: a
   // fold of the input, or the closest points of a bulge all on one input
-  // edge).
+  // edge). A point `straight_above` the midpoint (moved along the edge's
+  // normal only) is drawn nowhere: it keeps only half the opposite vertex's
+  // distance to the edge from it, which a thin triangle's vertex, beside
+  // the midpoint, would fail at a tenth of the edge.
   const Vec3 &pb = mesh.position(mesh.edge_from(c)), &pd = mesh.position(mesh.edge_to(c));
   const double end2 = 0.01 * norm2(pd - pb);
   if (!(norm2(x - pb) > end2) || !(norm2(x - pd) > end2)) return Rejection::Inversion;
-  for (Corner k : {c, mesh.opposite(c)})
-    if (k.is_valid() && !(norm2(x - mesh.position(mesh.vertex(k))) > end2)) return Rejection::Inversion;
+  for (Corner k : {c, mesh.opposite(c)}) {
+    if (!k.is_valid()) continue;
+    const Vec3& pa = mesh.position(mesh.vertex(k));
+    const double near2 = straight_above ? std::min(end2, 0.25 * norm2(raw_normal(pb, pd, pa)) / norm2(pd - pb)) : end2;
+    if (!(norm2(x - pa) > near2)) return Rejection::Inversion;
+  }
   for (Corner k : {c, mesh.opposite(c)}) {
     if (!k.is_valid()) continue;
     const Triangle t = M::triangle(k);
@@ -308,8 +316,8 @@ Rejection check_halves_side(AdaptedMesh& m, Corner c, const Vec3& x, const Vec3&
 
 // Both checks of a split of c at x.
 Rejection check_split_at(AdaptedMesh& m, Corner c, const Vec3& x, const Vec3& surface_n, const Hint& hint,
-                         const Limits& lim) {
-  const Rejection r = check_halves(m, c, x, surface_n, lim);
+                         const Limits& lim, bool straight_above = false) {
+  const Rejection r = check_halves(m, c, x, surface_n, lim, straight_above);
   return r == Rejection::None ? check_halves_side(m, c, x, surface_n, hint) : r;
 }
 
@@ -411,6 +419,27 @@ SplitPlan can_split_onto_input(AdaptedMesh& m, Corner c, double max_turn_deg, do
       return plan;
     }
     if (i == 0) first = why;
+  }
+  // T_G's closest point may lie off to one side of the edge (the input bulges
+  // across a long edge between thin triangles), near a vertex opposite the
+  // edge: the midpoint moved along the edge's normal instead, all or half of
+  // the way to T_G, when that point is within `bound` of T_G.
+  if (plan.kind == VertexKind::Free) {
+    Vec3 n;
+    for (Corner k : {c, mesh.opposite(c)})
+      if (k.is_valid()) n += normalized(mesh.triangle_normal(M::triangle(k)));
+    n = normalized(n);
+    const double offset = dot(input - mid, n);
+    for (double share : {1.0, 0.5}) {
+      const Vec3 x = mid + (share * offset) * n;
+      if (!(norm(x - mid) > 0) || !(m.distance_to_input(x, {b, d}).distance <= bound)) continue;
+      if (check_split_at(m, c, x, sn, plan.at.hint_g, lim, true) != Rejection::None) continue;
+      plan.why = Rejection::None;
+      plan.at.position = x;
+      plan.at.pulled = true;
+      plan.at.on_surface = false;
+      return plan;
+    }
   }
   plan.why = first;
   return plan;

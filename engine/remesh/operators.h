@@ -130,7 +130,9 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o);
 // else half or a quarter of the way from the midpoint to it when that is
 // within `bound` of T_G (left off the surface), with the normal filters of
 // can_split widened to `max_turn_deg` (a triangle across a crease of the
-// input turns to follow it); no swap instead.
+// input turns to follow it), else (a free edge) the midpoint moved along the
+// edge's normal all or half of the way to T_G when within `bound` of it;
+// no swap instead.
 SplitPlan can_split_onto_input(AdaptedMesh& m, Corner c, double max_turn_deg, double bound);
 // Pre: can_split(...).why == None. Returns the new vertex (tagged kRidge on a
 // ridge edge), or an invalid vertex when the plan was a swap.
