@@ -121,6 +121,35 @@ TEST_CASE("surface meshes with good vertex clearance certify most hinted project
   }
 }
 
+TEST_CASE("CAD parts of slivers certify most hinted projections locally by the triangles' clearance") {
+  // Vertex clearances certify little where triangles are long and thin (a
+  // point in the middle of a sliver is far from its vertices); the distance
+  // from the closest triangle to every triangle sharing no vertex with it
+  // does, for points near the surface.
+  for (const char* f : {"fixed_top.ply", "featuretype.STL"}) {
+    const std::string name = f;
+    CAPTURE(name);
+    const std::string path = test::shared_file(std::string("meshes/") + f);
+    if (path.empty()) return;
+    const SurfaceMesh m = load_mesh(path);
+    Locator loc(m);
+    const test::PointSampler sample(m);
+    const std::vector<int>& tris = sample.triangles();
+    std::mt19937_64 rng(13);
+    int certified = 0, bad = 0;
+    const int n = 4000;
+    for (int i = 0; i < n; ++i) {
+      const auto np = sample(rng, 1e-5, 1e-3);
+      const Location g = loc.project(np.x, Hint{Triangle(np.source)});
+      certified += !g.used_fallback;
+      if (!test::same_distance(g.distance, std::sqrt(test::brute_force_d2(m, tris, np.x)), m.bbox().diagonal())) ++bad;
+    }
+    MESSAGE(name << ": " << certified << "/" << n << " certified locally, " << bad << " unlike brute force");
+    CHECK(bad == 0);
+    CHECK(certified > 0.6 * n);
+  }
+}
+
 TEST_CASE("thin slab: a hint on the wrong sheet still lands on the closest sheet") {
   const double thickness = 1e-3;
   const SurfaceMesh m = test::box_surface({1, 1, thickness}, 20, 20, 1);

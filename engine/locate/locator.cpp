@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <atomic>
+#include <cstdint>
 #include <deque>
+#include <memory>
+#include <mutex>
 
 #include "geometry/parallel_chunks.h"
 #include "locate/closest_point.h"
@@ -63,6 +67,19 @@ struct Locator::Data {
     return false;
   }
   bool live_triangle(int t) const { return t >= 0 && t < n_slots && tv(t)[0] >= 0; }
+
+  // Per triangle slot, found on first use: a lower bound of the distance
+  // from the triangle to the nearest triangle sharing no vertex with it, in
+  // one byte: code k for scale x 2^(-k/4) (the largest such value not above
+  // the clearance less a rounding margin), kClearZero for 0, kClearUnknown
+  // before it is found. Queries on several threads may find the same code
+  // at once; it depends on the mesh only. Allocated at the first use (meshes
+  // whose vertex clearances certify every query never need it).
+  static constexpr std::uint8_t kClearZero = 254, kClearUnknown = 255;
+  mutable std::unique_ptr<std::atomic<std::uint8_t>[]> tclear;
+  mutable std::once_flag tclear_once;
+  double clearance_of_code(std::uint8_t k) const { return k >= kClearZero ? 0.0 : scale * std::exp2(-0.25 * k); }
+  double triangle_clearance(int t) const;
 
   void build(const SurfaceMesh& m, const LocateOptions& o);
   void build_triangles();
@@ -158,6 +175,40 @@ void Locator::Data::build_triangles() {
       vclear[v] = with_margin(std::sqrt(best), scale);
     }
   });
+}
+
+double Locator::Data::triangle_clearance(int t) const {
+  std::call_once(tclear_once, [&] {
+    tclear = std::make_unique<std::atomic<std::uint8_t>[]>(static_cast<std::size_t>(n_slots));
+    for (int u = 0; u < n_slots; ++u) tclear[static_cast<std::size_t>(u)].store(kClearUnknown, std::memory_order_relaxed);
+  });
+  std::atomic<std::uint8_t>& slot = tclear[static_cast<std::size_t>(t)];
+  const std::uint8_t known = slot.load(std::memory_order_relaxed);
+  if (known != kClearUnknown) return clearance_of_code(known);
+  const int* v = tv(t);
+  const std::array<Vec3, 3> p = {pos(t, 0), pos(t, 1), pos(t, 2)};
+  BBox box;
+  for (const Vec3& q : p) box.add(q);
+  double best = INFINITY;
+  tree.nearest([&](const Vec3& lo, const Vec3& hi) { return box_box_distance2(box.lo, box.hi, lo, hi); },
+               [&](int u, double) -> double {
+                 const int* w = tv(u);
+                 for (int i = 0; i < 3; ++i)
+                   if (w[i] == v[0] || w[i] == v[1] || w[i] == v[2]) return INFINITY;
+                 return triangle_triangle_distance2(p, {pos(u, 0), pos(u, 1), pos(u, 2)});
+               },
+               best);
+  const double clear = with_margin(std::sqrt(best), scale);
+  std::uint8_t code = kClearZero;
+  if (clear >= scale) {
+    code = 0;
+  } else if (clear > 0 && scale > 0) {
+    double k = std::ceil(-4.0 * std::log2(clear / scale));
+    while (k < kClearZero && clearance_of_code(static_cast<std::uint8_t>(k)) > clear) ++k;
+    code = static_cast<std::uint8_t>(std::min<double>(k, kClearZero));
+  }
+  slot.store(code, std::memory_order_relaxed);
+  return clearance_of_code(code);
 }
 
 void Locator::Data::build_features() {
@@ -297,9 +348,18 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
       K = t;
     }
   }
+  // The tree's search for a triangle closer than `bound`: those the walk
+  // evaluated (marked) are not, nor those whose bounding ball is as far.
   auto global = [&](int start, double bound, int steps) {
     const int found = D.tree.nearest([&](const Vec3& lo, const Vec3& hi) { return box_point_distance2(lo, hi, x); },
-                                     [&](int t, double) { return D.tri_d2(x, t); }, bound);
+                                     [&](int t, double best) {
+                                       if (tmark_[t] == stamp_) return double{INFINITY};
+                                       const Data::Tri& T = D.tri[static_cast<std::size_t>(t)];
+                                       const double gap = norm(x - T.centre()) - T.r;
+                                       if (gap > 0 && gap * gap >= best) return double{INFINITY};
+                                       return D.tri_d2(x, t);
+                                     },
+                                     bound);
     return free_result(x, found >= 0 ? found : start, steps, true);
   };
   if (K < 0) return global(-1, INFINITY, 0);
@@ -341,7 +401,13 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
       if (best < 0 || !(bd < dK)) return free_result(x, K, steps, false);
     } else {
       for (int k = 0; k < 3; ++k) closer_among(v[k], rK, best, bd);
-      if (best < 0 || !(bd < dK)) break;  // local minimum: every triangle of E(K) evaluated
+      if (best < 0 || !(bd < dK)) {
+        // Local minimum: every triangle of E(K) evaluated. One sharing no
+        // vertex with K is at least K's clearance from it, so at least the
+        // clearance less d(x, K) from x: no closer than K when that is >= d(x, K).
+        if (2 * rK <= D.triangle_clearance(K)) return free_result(x, K, steps, false);
+        break;
+      }
     }
     K = best;
     dK = bd;
