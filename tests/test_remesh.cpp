@@ -158,7 +158,11 @@ TEST_CASE("remesh: random operator sequences keep the mesh valid, on the surface
         swap(a, c);
       } else {
         const Vertex v = m.vertex(c);
+        const bool was_on_surface = a.on_surface(v);
         const MovePlan p = can_move(a, v, o);
+        // The displacement starts at most max_move of the shortest edge and
+        // is halved no further than min_move of it.
+        if (was_on_surface) CHECK(p.tries <= 1 + static_cast<int>(std::ceil(std::log2(o.max_move / o.min_move))));
         if (p.why != Rejection::None) continue;
         // A vertex left off the surface (a split at the straight midpoint) is
         // projected whatever the quality; any other move does not lower it.

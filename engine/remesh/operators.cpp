@@ -857,6 +857,8 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
   const Limits lim(o);
   Rejection last = Rejection::NoGain;
   for (int k = 0; k < o.move_backtracks; ++k, dx *= 0.5) {
+    // Halved below min_move, a displacement is no longer worth a move.
+    if (k > 0 && m.on_surface(v) && !(norm(dx) > o.min_move * shortest)) break;
     ++plan.tries;
     const Placement at = m.place(s + dx, kind, {v});
     double q = 1;

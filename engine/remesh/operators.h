@@ -94,11 +94,12 @@ struct OperatorOptions {
   double swap_gain = 1.0 + 1e-6;
   // Move (section 5.5): relaxation omega of the displacement toward eq. 19,
   // its bound relative to the shortest incident edge, and the number of
-  // halvings tried ("about 8-10").
+  // placements tried, the displacement halved after each ("about 8-10").
   double omega = 0.6;
   double max_move = 0.5;
   // Displacements shorter than this share of the shortest incident edge are
-  // not worth a move (the vertex is at its optimum).
+  // not worth a move (the vertex is at its optimum): none is tried, and the
+  // halvings stop there.
   double min_move = 0.03;
   int move_backtracks = 8;
   // Move: accept when the worst new quality is at least this factor times
