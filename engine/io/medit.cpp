@@ -20,6 +20,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/huge_pages.h"
 #include "io/formats.h"
 #include "io/text_reader.h"
 
@@ -527,9 +528,9 @@ class AsciiReader {
     MeshData& d = c_.data;
     const auto m = static_cast<std::size_t>(n);
     switch (s.role) {
-      case Role::Vertices: d.vertices.reserve(m); d.vertex_refs.reserve(m); break;
-      case Role::Triangles: d.triangles.reserve(m); d.triangle_refs.reserve(m); break;
-      case Role::Edges: d.edges.reserve(m); d.edge_refs.reserve(m); break;
+      case Role::Vertices: reserve_huge(d.vertices, m); reserve_huge(d.vertex_refs, m); break;
+      case Role::Triangles: reserve_huge(d.triangles, m); reserve_huge(d.triangle_refs, m); break;
+      case Role::Edges: reserve_huge(d.edges, m); reserve_huge(d.edge_refs, m); break;
       default: break;
     }
   }

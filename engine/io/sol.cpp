@@ -21,6 +21,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/huge_pages.h"
 #include "io/formats.h"
 #include "io/text_reader.h"
 
@@ -66,7 +67,7 @@ std::vector<FieldData> make_fields(const std::vector<int>& types, int dim, long 
     f.info.name = default_name(first + k);
     f.info.kind = static_cast<FieldKind>(types[k]);
     f.info.ncomp = type_components(types[k], dim);
-    f.values.reserve(vertices * static_cast<std::size_t>(f.info.ncomp));
+    reserve_huge(f.values, vertices * static_cast<std::size_t>(f.info.ncomp));
     out.push_back(std::move(f));
   }
   return out;

@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "core/error.h"
+#include "core/huge_pages.h"
 
 namespace anisurf {
 
@@ -154,7 +155,9 @@ std::vector<int> bucket_order(int n, int buckets, First first, Less less) {
   std::vector<int> start(static_cast<std::size_t>(buckets) + 1, 0);
   for (int i = 0; i < n; ++i) ++start[static_cast<std::size_t>(first(i)) + 1];
   for (int b = 0; b < buckets; ++b) start[b + 1] += start[b];
-  std::vector<int> order(static_cast<std::size_t>(n));
+  std::vector<int> order;
+  reserve_huge(order, static_cast<std::size_t>(n));
+  order.resize(static_cast<std::size_t>(n));
   std::vector<int> fill(start.begin(), start.end() - 1);
   for (int i = 0; i < n; ++i) order[static_cast<std::size_t>(fill[first(i)]++)] = i;
   for (int b = 0; b < buckets; ++b) std::sort(order.begin() + start[b], order.begin() + start[b + 1], less);
@@ -171,7 +174,7 @@ int vertex_bound(const std::vector<Tri>& tris) {
 // then triangle, then corner.
 std::vector<EdgeUse> sorted_edge_uses(const std::vector<Tri>& tris) {
   std::vector<EdgeUse> uses;
-  uses.reserve(tris.size() * 3);
+  reserve_huge(uses, tris.size() * 3);
   for (int t = 0; t < static_cast<int>(tris.size()); ++t)
     for (int k = 0; k < 3; ++k)
       uses.push_back({edge_key(tris[t][(k + 1) % 3], tris[t][(k + 2) % 3]), t, k});
@@ -182,7 +185,7 @@ std::vector<EdgeUse> sorted_edge_uses(const std::vector<Tri>& tris) {
         return a.key != b.key ? a.key < b.key : (a.tri != b.tri ? a.tri < b.tri : a.local < b.local);
       });
   std::vector<EdgeUse> sorted;
-  sorted.reserve(uses.size());
+  reserve_huge(sorted, uses.size());
   for (int i : order) sorted.push_back(uses[i]);
   return sorted;
 }
@@ -244,8 +247,8 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
   // 2. triangles: drop degenerate and duplicated ones
   std::vector<Tri> tris;
   std::vector<int> tri_origin;
-  tris.reserve(d.triangles.size());
-  tri_origin.reserve(d.triangles.size());
+  reserve_huge(tris, d.triangles.size());
+  reserve_huge(tri_origin, d.triangles.size());
   for (int t = 0; t < static_cast<int>(d.triangles.size()); ++t) {
     Tri tr{rep_of[d.triangles[t][0]], rep_of[d.triangles[t][1]], rep_of[d.triangles[t][2]]};
     if (tr[0] == tr[1] || tr[1] == tr[2] || tr[0] == tr[2]) {
@@ -292,7 +295,7 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
     std::uint64_t key;
   };
   std::vector<Pair> pairs;
-  pairs.reserve(uses.size() / 2);
+  reserve_huge(pairs, uses.size() / 2);
   for (std::size_t i = 0; i < uses.size();) {
     std::size_t j = i;
     while (j < uses.size() && uses[j].key == uses[i].key) ++j;
