@@ -473,3 +473,27 @@ TEST_CASE("fidelity: --hausd is a bound in regions too, where the input bulges u
                            << distance / hausd << " hausd");
   CHECK(distance <= 1.2 * hausd);
 }
+
+TEST_CASE("fidelity: the chamfer cube at diagonal/100 and /150, in regions too, splits every ridge edge") {
+  // Strips narrower than twice the size between two ridges: a border split
+  // across a strip leaves a free vertex right beside a ridge edge's
+  // midpoint, which blocked the ridge's split (2.9 h edges with 2 threads).
+  ANISURF_REQUIRE_SHARED(path, "meshes/chamfer_cube.mesh");
+  const SurfaceMesh in = load_mesh(path);
+  for (const double divisions : {100.0, 150.0})
+    for (const int threads : {1, 2}) {
+      CAPTURE(divisions);
+      CAPTURE(threads);
+      const double h = in.bbox().diagonal() / divisions;
+      remesh::AdaptOptions o = iso_options(h);
+      o.threads = threads;
+      const remesh::AdaptResult r = remesh::adapt({in}, o);
+      REQUIRE(r.mesh.validate().ok());
+      const auto [share, longest] = band_share(r.mesh, h);
+      MESSAGE("chamfer cube, diagonal/" << divisions << ", " << threads << " threads: " << share * 100
+                                         << "% in band, longest " << longest);
+      CHECK(share >= 0.95);
+      CHECK(longest <= 1.5);
+      CHECK(sharp_edges_kept(in, r.mesh, h / 4) == 1.0);
+    }
+}

@@ -261,23 +261,24 @@ Vec3 split_point(const AdaptedMesh& m, Vertex b, Vertex d, const OperatorOptions
 // `surface_n` there, zero on a curve): check_triangle against the triangle
 // each replaces.
 Rejection check_halves(const AdaptedMesh& m, Corner c, const Vec3& x, const Vec3& surface_n, const Limits& lim,
-                       bool straight_above = false) {
+                       bool drawn_nowhere = false) {
   const SurfaceMesh& mesh = m.mesh();
   // The point halves the edge: within a tenth of its length of an end, or
   // of a vertex opposite the edge, it would only add a needle or a cap (a
   // projection or T_G's closest point drawn to a point already taken: a
   // fold of the input, or the closest points of a bulge all on one input
-  // edge). A point `straight_above` the midpoint (moved along the edge's
-  // normal only) is drawn nowhere: it keeps only half the opposite vertex's
-  // distance to the edge from it, which a thin triangle's vertex, beside
-  // the midpoint, would fail at a tenth of the edge.
+  // edge). A point `drawn_nowhere` (the midpoint moved along the edge's
+  // normal only, or a feature curve's own point between the edge's ends)
+  // keeps only half the opposite vertex's distance to the edge from it,
+  // which a thin triangle's vertex beside the midpoint would fail at a
+  // tenth of the edge.
   const Vec3 &pb = mesh.position(mesh.edge_from(c)), &pd = mesh.position(mesh.edge_to(c));
   const double end2 = 0.01 * norm2(pd - pb);
   if (!(norm2(x - pb) > end2) || !(norm2(x - pd) > end2)) return Rejection::Inversion;
   for (Corner k : {c, mesh.opposite(c)}) {
     if (!k.is_valid()) continue;
     const Vec3& pa = mesh.position(mesh.vertex(k));
-    const double near2 = straight_above ? std::min(end2, 0.25 * norm2(raw_normal(pb, pd, pa)) / norm2(pd - pb)) : end2;
+    const double near2 = drawn_nowhere ? std::min(end2, 0.25 * norm2(raw_normal(pb, pd, pa)) / norm2(pd - pb)) : end2;
     if (!(norm2(x - pa) > near2)) return Rejection::Inversion;
   }
   for (Corner k : {c, mesh.opposite(c)}) {
@@ -316,8 +317,8 @@ Rejection check_halves_side(AdaptedMesh& m, Corner c, const Vec3& x, const Vec3&
 
 // Both checks of a split of c at x.
 Rejection check_split_at(AdaptedMesh& m, Corner c, const Vec3& x, const Vec3& surface_n, const Hint& hint,
-                         const Limits& lim, bool straight_above = false) {
-  const Rejection r = check_halves(m, c, x, surface_n, lim, straight_above);
+                         const Limits& lim, bool drawn_nowhere = false) {
+  const Rejection r = check_halves(m, c, x, surface_n, lim, drawn_nowhere);
   return r == Rejection::None ? check_halves_side(m, c, x, surface_n, hint) : r;
 }
 
@@ -349,7 +350,12 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     }
   }
   const Vec3 sn = plan.kind == VertexKind::Free ? plan.at.normal : Vec3();
-  plan.why = check_split_at(m, c, plan.at.position, sn, plan.at.hint_g, lim);
+  // A point of a feature curve is the curve's own between the edge's ends,
+  // not drawn to a point already taken: a free vertex beside it (a strip of
+  // the surface narrower than the size between two curves) only has to be
+  // half its distance to the edge away; the short edge it makes to the new
+  // vertex is for the collapses.
+  plan.why = check_split_at(m, c, plan.at.position, sn, plan.at.hint_g, lim, plan.kind == VertexKind::Curve);
   if (plan.why != Rejection::None) {
     // Section 5.3: the projection is not admissible, the midpoint is used,
     // if it is close enough to the surface for the triangles around it
