@@ -433,24 +433,31 @@ TEST_CASE("fidelity: an isotropic size wider than a rounded tip keeps its size a
   CHECK(acted >= 1);
 }
 
+// `in` adapted to its curvature metric for hausd = 1e-3 x the diagonal with
+// the gradation off, on `threads` threads (0: all cores): valid, and within
+// 1.2 hausd of the input.
+void check_ungraded_hausd_bound(const SurfaceMesh& in, const std::string& name, int threads) {
+  const double hausd = 1e-3 * in.bbox().diagonal();
+  remesh::AdaptOptions o;
+  o.metric.source = MetricRecipe::Source::Curvature;
+  o.metric.hausd = hausd;
+  o.metric.hgrad = 0;
+  o.threads = threads;
+  const remesh::AdaptResult r = remesh::adapt({in}, o);
+  REQUIRE(r.mesh.validate().ok());
+  const double distance = max_distance_to_input(r.mesh, in);
+  MESSAGE(name << ", hausd " << hausd << ", gradation off, threads " << threads << ": " << r.mesh.n_triangles()
+               << " triangles, distance " << distance / hausd << " hausd");
+  CHECK(distance <= 1.2 * hausd);
+}
+
 TEST_CASE("fidelity: --hausd is a bound with the gradation off, on a surface with creases below the ridge angle") {
   // A CAD part of slivers with creases below the ridge angle and fillets:
   // the curvature metric without gradation jumps from size to size, and the
   // operators' own sag tests leave points beyond hausd that the final pass
   // splits onto the input.
   ANISURF_REQUIRE_SHARED(path, "meshes/fixed_top.ply");
-  const SurfaceMesh in = load_mesh(path);
-  const double hausd = 1e-3 * in.bbox().diagonal();
-  remesh::AdaptOptions o;
-  o.metric.source = MetricRecipe::Source::Curvature;
-  o.metric.hausd = hausd;
-  o.metric.hgrad = 0;
-  const remesh::AdaptResult r = remesh::adapt({in}, o);
-  REQUIRE(r.mesh.validate().ok());
-  const double distance = max_distance_to_input(r.mesh, in);
-  MESSAGE("fixed_top, hausd " << hausd << ", gradation off: " << r.mesh.n_triangles() << " triangles, distance "
-                               << distance / hausd << " hausd");
-  CHECK(distance <= 1.2 * hausd);
+  check_ungraded_hausd_bound(load_mesh(path), "fixed_top", 0);
 }
 
 TEST_CASE("fidelity: --hausd is a bound in regions too, where the input bulges under long edges between thin triangles") {
@@ -459,19 +466,7 @@ TEST_CASE("fidelity: --hausd is a bound in regions too, where the input bulges u
   // input points lie beside the midpoint, next to the thin triangles'
   // opposite vertices; the split moves the midpoint straight up to the input.
   ANISURF_REQUIRE_SHARED(path, "meshes/falcon.mesh");
-  const SurfaceMesh in = load_mesh(path);
-  const double hausd = 1e-3 * in.bbox().diagonal();
-  remesh::AdaptOptions o;
-  o.metric.source = MetricRecipe::Source::Curvature;
-  o.metric.hausd = hausd;
-  o.metric.hgrad = 0;
-  o.threads = 2;
-  const remesh::AdaptResult r = remesh::adapt({in}, o);
-  REQUIRE(r.mesh.validate().ok());
-  const double distance = max_distance_to_input(r.mesh, in);
-  MESSAGE("falcon, hausd " << hausd << ", gradation off, 2 threads: " << r.mesh.n_triangles() << " triangles, distance "
-                           << distance / hausd << " hausd");
-  CHECK(distance <= 1.2 * hausd);
+  check_ungraded_hausd_bound(load_mesh(path), "falcon", 2);
 }
 
 TEST_CASE("fidelity: the chamfer cube at diagonal/100 and /150, in regions too, splits every ridge edge") {

@@ -5,7 +5,9 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <initializer_list>
 #include <random>
+#include <string>
 
 #include "io/mesh_io.h"
 #include "locate/locator.h"
@@ -100,13 +102,22 @@ TEST_CASE("projection with and without hints agrees with brute force on every sh
   }
 }
 
-TEST_CASE("surface meshes with good vertex clearance certify most hinted projections locally") {
-  for (const char* f : {"falcon.mesh", "bunny.off", "torus.STL", "spot.obj"}) {
+// Calls check(name, mesh) for each of the shared meshes `files` (none when
+// ../shared is absent), the name captured for the checks' messages.
+template <class Check>
+void for_shared_meshes(std::initializer_list<const char*> files, Check&& check) {
+  for (const char* f : files) {
     const std::string name = f;
     CAPTURE(name);
     const std::string path = test::shared_file(std::string("meshes/") + f);
     if (path.empty()) return;
-    const SurfaceMesh m = load_mesh(path);
+    check(name, load_mesh(path));
+  }
+}
+
+TEST_CASE("surface meshes with good vertex clearance certify most hinted projections locally") {
+  for_shared_meshes({"falcon.mesh", "bunny.off", "torus.STL", "spot.obj"}, [](const std::string& name,
+                                                                             const SurfaceMesh& m) {
     Locator loc(m);
     const test::PointSampler sample(m);
     std::mt19937_64 rng(12);
@@ -118,7 +129,7 @@ TEST_CASE("surface meshes with good vertex clearance certify most hinted project
     }
     MESSAGE(name << ": " << certified << "/" << n << " certified locally");
     CHECK(certified > 0.85 * n);
-  }
+  });
 }
 
 TEST_CASE("CAD parts of slivers certify most hinted projections locally by the triangles' clearance") {
@@ -126,12 +137,7 @@ TEST_CASE("CAD parts of slivers certify most hinted projections locally by the t
   // point in the middle of a sliver is far from its vertices); the distance
   // from the closest triangle to every triangle sharing no vertex with it
   // does, for points near the surface.
-  for (const char* f : {"fixed_top.ply", "featuretype.STL"}) {
-    const std::string name = f;
-    CAPTURE(name);
-    const std::string path = test::shared_file(std::string("meshes/") + f);
-    if (path.empty()) return;
-    const SurfaceMesh m = load_mesh(path);
+  for_shared_meshes({"fixed_top.ply", "featuretype.STL"}, [](const std::string& name, const SurfaceMesh& m) {
     Locator loc(m);
     const test::PointSampler sample(m);
     const std::vector<int>& tris = sample.triangles();
@@ -147,7 +153,7 @@ TEST_CASE("CAD parts of slivers certify most hinted projections locally by the t
     MESSAGE(name << ": " << certified << "/" << n << " certified locally, " << bad << " unlike brute force");
     CHECK(bad == 0);
     CHECK(certified > 0.6 * n);
-  }
+  });
 }
 
 TEST_CASE("thin slab: a hint on the wrong sheet still lands on the closest sheet") {

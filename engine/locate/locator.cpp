@@ -1,9 +1,9 @@
 #include "locate/locator.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <cmath>
-#include <atomic>
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -67,6 +67,12 @@ struct Locator::Data {
     return false;
   }
   bool live_triangle(int t) const { return t >= 0 && t < n_slots && tv(t)[0] >= 0; }
+  // Triangle t's bounding ball is at least r from x: t is no closer than r.
+  bool ball_beyond(const Vec3& x, int t, double r) const {
+    const Tri& T = tri[static_cast<std::size_t>(t)];
+    const double reach = r + T.r;
+    return norm2(x - T.centre()) >= reach * reach;
+  }
 
   // Per triangle slot, found on first use: a lower bound of the distance
   // from the triangle to the nearest triangle sharing no vertex with it, in
@@ -353,10 +359,8 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
   auto global = [&](int start, double bound, int steps) {
     const int found = D.tree.nearest([&](const Vec3& lo, const Vec3& hi) { return box_point_distance2(lo, hi, x); },
                                      [&](int t, double best) {
-                                       if (tmark_[t] == stamp_) return double{INFINITY};
-                                       const Data::Tri& T = D.tri[static_cast<std::size_t>(t)];
-                                       const double gap = norm(x - T.centre()) - T.r;
-                                       if (gap > 0 && gap * gap >= best) return double{INFINITY};
+                                       if (tmark_[t] == stamp_ || D.ball_beyond(x, t, std::sqrt(best)))
+                                         return double{INFINITY};
                                        return D.tri_d2(x, t);
                                      },
                                      bound);
@@ -378,9 +382,7 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
       tmark_[t] = stamp_;
       // A triangle whose bounding ball is as far as K cannot be closer:
       // marked as evaluated without the exact distance.
-      const Data::Tri& T = D.tri[static_cast<std::size_t>(t)];
-      const double reach = rK + T.r;
-      if (norm2(x - T.centre()) >= reach * reach) continue;
+      if (D.ball_beyond(x, t, rK)) continue;
       const double d = D.tri_d2(x, t);
       if (d < bd) {
         bd = d;
