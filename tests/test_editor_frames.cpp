@@ -265,7 +265,8 @@ TEST_CASE("editor window on the Falcon: the slowest frame while a curvature metr
   for (const char* what : {"a metric is built", "a pass runs", "the G1 surface is built"}) {
     std::smatch w;
     const bool seen = std::regex_search(err, w, std::regex(std::string("while ") + what + R"(: (\d+) frames, slowest ([0-9.]+) ms)"));
-    const bool too_short = std::string(what) == "a pass runs" && pass_ms < 2 * mean_ms;
+    const bool too_short = std::string(what) == "a pass runs" &&
+                           (pass_ms < 2 * mean_ms || err.find("adaptation: started and done within one frame") != std::string::npos);
     CHECK_MESSAGE((seen || too_short), "no frame drawn while " << what);
     const std::string line = seen ? std::string("while ") + what + ": " + w[1].str() + " frames, slowest " + w[2].str() + " ms" : "";
     if (seen) MESSAGE(line);

@@ -94,25 +94,25 @@ void Adaptation::prepare() {
   worker_ = std::thread([this] { work(0, 0, true); });
 }
 
-void Adaptation::start(std::size_t from, int max_passes) {
+bool Adaptation::start(std::size_t from, int max_passes) {
   {
     std::lock_guard lock(mutex_);
     if (running_ && preparing_) {  // the passes follow the setup in progress
-      if (timeline_[std::min(from, timeline_.size() - 1)]->schedule.phase == Schedule::Phase::Done) return;
+      if (timeline_[std::min(from, timeline_.size() - 1)]->schedule.phase == Schedule::Phase::Done) return false;
       queued_ = Queued{from, max_passes};
       error_.clear();
       start_requested_ = Clock::now();
       stop_ = false;
       passes_ = true;
-      return;
+      return true;
     }
   }
-  if (running_) return;
+  if (running_) return false;
   if (worker_.joinable()) worker_.join();
   {
     std::lock_guard lock(mutex_);
     if (from >= timeline_.size()) from = timeline_.size() - 1;
-    if (timeline_[from]->schedule.phase == Schedule::Phase::Done) return;
+    if (timeline_[from]->schedule.phase == Schedule::Phase::Done) return false;
     error_.clear();
     start_requested_ = Clock::now();
   }
@@ -120,6 +120,7 @@ void Adaptation::start(std::size_t from, int max_passes) {
   running_ = true;
   passes_ = true;
   worker_ = std::thread([this, from, max_passes] { work(from, max_passes, false); });
+  return true;
 }
 
 void Adaptation::rebuild_from(const Snapshot& s) {

@@ -87,8 +87,8 @@ class Adaptation {
   // Starts the worker from snapshot `from` (cutting the timeline after it)
   // for at most max_passes passes (0: until the schedule is done); during a
   // prepare() the passes follow it. No-op if passes run or the schedule is
-  // done.
-  void start(std::size_t from, int max_passes);
+  // done; returns whether passes were started (or queued after the setup).
+  bool start(std::size_t from, int max_passes);
   void request_stop() { stop_ = true; }
   void wait();
   // Passes run or are about to (not a prepare() alone).

@@ -442,6 +442,7 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
   double run_seconds = 0, run_worst = 0;
   Clock::time_point run_start;
   bool was_running = false;
+  std::size_t runs_seen = 0;
   const Snapshot* shown_at_start = nullptr;
   double first_shown = -1;  // seconds from the start of a run to the first frame showing a pass
   bool awaiting_first = false;
@@ -593,6 +594,13 @@ int run_editor_window(const std::string& mesh, const std::string& sol, const Scr
                    run_seconds, tl.size() - 1 + a.session.dropped_passes(), tl.size() - 1, run_frames, run_frames / std::max(run_seconds, 1e-9), 1000 * run_worst,
                    tl.back()->has_report ? tl.back()->report.seconds : 0.0);
     }
+    if (a.session.runs_started() != runs_seen && !running && !was_running) {
+      // Started and done between two frames: no frame was drawn while it ran.
+      const auto tl = a.session.timeline();
+      std::fprintf(stderr, "adaptation: started and done within one frame of %.0f ms (%zu passes in the timeline); its pass %.3f s\n",
+                   1000 * dt, tl.size() - 1, tl.back()->has_report ? tl.back()->report.seconds : 0.0);
+    }
+    runs_seen = a.session.runs_started();
     was_running = running;
     ++fps_frames;
     const double since = std::chrono::duration<double>(now - fps_start).count();

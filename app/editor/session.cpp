@@ -689,7 +689,7 @@ void EditorSession::run(int max_passes) {
   scrub_ = -1;
   stop_requested_.reset();
   cancelled_ = false;
-  adaptation_->start(from, max_passes);
+  if (adaptation_->start(from, max_passes)) ++runs_started_;
   log(max_passes == 1 ? "step" : max_passes > 0 ? "run " + std::to_string(max_passes) : "run");
   changed();
 }

@@ -226,6 +226,9 @@ class EditorSession {
   int cycle() const { return cycle_; }
   void wait();
   bool running() const;
+  // Runs (Step or Run) started since the session was made: the window tells
+  // a run that began and ended within one frame from no run at all.
+  std::size_t runs_started() const { return runs_started_; }
   RunState run_state() const;
   std::vector<std::shared_ptr<const Snapshot>> timeline() const;
   // Shows pass `index` of the timeline (-1: follow the latest).
@@ -358,6 +361,7 @@ class EditorSession {
   bool cancel_pending_ = false;
   bool cancelled_ = false;  // the last run was cancelled (and nothing ran since)
   std::optional<std::chrono::steady_clock::time_point> stop_requested_;
+  std::size_t runs_started_ = 0;
   Analysis analysis_;
   std::shared_ptr<const Snapshot> analysis_of_;
   std::future<Analysis> analysis_job_;  // the analysis of analysis_job_of_, in its thread
