@@ -1,14 +1,13 @@
 #include "geometry/normals.h"
 
 #include <Eigen/Dense>
-#include <Eigen/IterativeLinearSolvers>
-#include <Eigen/Sparse>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
 #include "geometry/features.h"
 #include "geometry/parallel_chunks.h"
+#include "geometry/symmetric_cg.h"
 
 namespace anisurf {
 
@@ -253,73 +252,90 @@ SectorEstimate estimate_sector_normal(const SurfaceMesh& mesh, Vertex v, const s
   return {n, SectorEstimate::Source::AngleWeighted};
 }
 
-// The sparse matrix of the mirror system (compute_frames, step 3), its
-// structure built once: the unknowns of the sectors at both ends of every
-// edge of positive length are coupled (the entries the step's triplets would
-// name, explicit zeros included), one column per unknown with sorted rows.
-// Values are summed in place in the order of the triplets (each slot starts
-// at -0, the neutral element), so the matrix is the one setFromTriplets
-// built, without its triplet list and transposed copy (3 x the matrix).
-class MirrorMatrix {
- public:
-  MirrorMatrix(const SurfaceMesh& mesh, const std::vector<int>& corner_sector, const std::vector<int>& first_unknown,
-               const std::vector<int>& n_unknowns, int nu)
-      : A_(nu, nu) {
-    const std::vector<std::vector<int>> nbrs = sector_neighbours(mesh, corner_sector, first_unknown);
-    std::vector<int> outer(nu + 1, 0);
-    for (int s = 0; s < static_cast<int>(nbrs.size()); ++s) {
-      int rows = 0;
-      for (int t : nbrs[s]) rows += n_unknowns[t];
-      for (int k = 0; k < n_unknowns[s]; ++k) outer[first_unknown[s] + k + 1] = rows;
-    }
-    for (int u = 0; u < nu; ++u) outer[u + 1] += outer[u];
-    A_.resizeNonZeros(outer[nu]);
-    std::copy(outer.begin(), outer.end(), A_.outerIndexPtr());
-    for (int s = 0; s < static_cast<int>(nbrs.size()); ++s)
-      for (int k = 0; k < n_unknowns[s]; ++k) {
-        int* row = A_.innerIndexPtr() + outer[first_unknown[s] + k];
-        for (int t : nbrs[s])
-          for (int m = 0; m < n_unknowns[t]; ++m) *row++ = first_unknown[t] + m;
-      }
-  }
-  // Every value back to -0 (before a new assembly).
-  void clear() { std::fill_n(A_.valuePtr(), A_.nonZeros(), -0.0); }
-  // A(r, c) += v; pre: (r, c) in the structure.
-  void add(int r, int c, double v) {
-    const int* first = A_.innerIndexPtr() + A_.outerIndexPtr()[c];
-    const int* last = A_.innerIndexPtr() + A_.outerIndexPtr()[c + 1];
-    A_.valuePtr()[std::lower_bound(first, last, r) - A_.innerIndexPtr()] += v;
-  }
-  const Eigen::SparseMatrix<double>& matrix() const { return A_; }
+// One edge of a triangle, from corner cv to corner cw (the next one), as
+// the mirror system (compute_frames, step 3) sees it.
+struct MirrorEdge {
+  Corner cv, cw;
+};
 
- private:
-  // Per sector with unknowns, the sorted sectors with unknowns it is coupled
-  // to (itself included when one of its edges has positive length).
-  static std::vector<std::vector<int>> sector_neighbours(const SurfaceMesh& mesh, const std::vector<int>& corner_sector,
-                                                         const std::vector<int>& first_unknown) {
-    std::vector<std::vector<int>> nbrs(first_unknown.size());
-    for (Triangle t : mesh.triangles()) {
-      for (int q = 0; q < 3; ++q) {
-        const Corner cv = SurfaceMesh::corner(t, q), cw = SurfaceMesh::next(cv);
-        const Vec3 e = mesh.position(mesh.vertex(cw)) - mesh.position(mesh.vertex(cv));
-        if (!(norm2(e) > 0)) continue;
-        const int sv = corner_sector[cv.idx], sw = corner_sector[cw.idx];
-        for (int a : {sv, sw}) {
-          if (first_unknown[a] < 0) continue;
-          for (int b : {sv, sw})
-            if (first_unknown[b] >= 0) nbrs[a].push_back(b);
+// The edges of the triangles of a sector's corners that end at its vertex:
+// each corner's next edge and its previous one.
+template <class Visit>
+void for_sector_edges(const std::vector<Corner>& sector, Visit visit) {
+  for (Corner c : sector) {
+    visit(MirrorEdge{c, SurfaceMesh::next(c)});
+    visit(MirrorEdge{SurfaceMesh::prev(c), c});
+  }
+}
+
+// The mirror system's unknowns and the structure of its matrix: the
+// unknowns of the sectors at both ends of every edge of positive length are
+// coupled (explicit zeros included), one column per unknown with sorted
+// rows. Columns are built and filled per sector in parallel: a sector's
+// columns gather the edges of its own corners, so no two chunks write the
+// same value.
+class MirrorSystem {
+ public:
+  MirrorSystem(const SurfaceMesh& mesh, const std::vector<int>& corner_sector, const std::vector<int>& movable,
+               const std::vector<std::vector<Corner>>& members, int n_sectors, const std::vector<Vec3>& axis)
+      : first_unknown(n_sectors, -1), n_unknowns(n_sectors, 0) {
+    int nu = 0;
+    for (std::size_t i = 0; i < movable.size(); ++i) {
+      const int s = movable[i];
+      first_unknown[s] = nu;
+      n_unknowns[s] = norm(axis[i]) > 0 ? 1 : 2;
+      nu += n_unknowns[s];
+    }
+    A.n = nu;
+    A.outer.assign(static_cast<std::size_t>(nu) + 1, 0);
+    const int nm = static_cast<int>(movable.size());
+    const int chunks = chunk_count(nm, 4096);
+    // rows per column, then the running sum, then the rows themselves
+    run_chunks(nm, chunks, [&](int, int begin, int end) {
+      std::vector<int> coupled;
+      for (int i = begin; i < end; ++i) {
+        coupled_sectors(mesh, corner_sector, members[i], coupled);
+        int rows = 0;
+        for (int t : coupled) rows += n_unknowns[t];
+        const int s = movable[i];
+        for (int k = 0; k < n_unknowns[s]; ++k) A.outer[first_unknown[s] + k + 1] = rows;
+      }
+    });
+    for (int u = 0; u < nu; ++u) A.outer[u + 1] += A.outer[u];
+    A.inner.resize(static_cast<std::size_t>(A.outer[nu]));
+    A.value.assign(A.inner.size(), -0.0);
+    run_chunks(nm, chunks, [&](int, int begin, int end) {
+      std::vector<int> coupled;
+      for (int i = begin; i < end; ++i) {
+        coupled_sectors(mesh, corner_sector, members[i], coupled);
+        const int s = movable[i];
+        for (int k = 0; k < n_unknowns[s]; ++k) {
+          int* row = A.inner.data() + A.outer[first_unknown[s] + k];
+          for (int t : coupled)
+            for (int m = 0; m < n_unknowns[t]; ++m) *row++ = first_unknown[t] + m;
         }
       }
-    }
-    for (auto& n : nbrs) {
-      std::sort(n.begin(), n.end());
-      n.erase(std::unique(n.begin(), n.end()), n.end());
-      n.shrink_to_fit();
-    }
-    return nbrs;
+    });
   }
 
-  Eigen::SparseMatrix<double> A_;
+  std::vector<int> first_unknown, n_unknowns;  // per sector (-1, 0: none)
+  SymmetricColumns A;
+
+ private:
+  // The sorted sectors with unknowns coupled to the sector of `sector`'s
+  // corners (itself included when one of its edges has positive length).
+  void coupled_sectors(const SurfaceMesh& mesh, const std::vector<int>& corner_sector,
+                       const std::vector<Corner>& sector, std::vector<int>& out) const {
+    out.clear();
+    for_sector_edges(sector, [&](const MirrorEdge& e) {
+      const Vec3 d = mesh.position(mesh.vertex(e.cw)) - mesh.position(mesh.vertex(e.cv));
+      if (!(norm2(d) > 0)) return;
+      for (Corner c : {e.cv, e.cw})
+        if (first_unknown[corner_sector[c.idx]] >= 0) out.push_back(corner_sector[c.idx]);
+    });
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  }
 };
 
 }  // namespace
@@ -483,16 +499,13 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
   // (boundary) neighbourhoods, where fits are biased.
   if (options.mirror_iterations > 0 && !movable.empty()) {
     const int ns = f.n_sectors();
-    std::vector<int> first_unknown(ns, -1), n_unknowns(ns, 0);
+    MirrorSystem sys(mesh, f.corner_sector_, movable, members, ns, axis);
+    const std::vector<int>& first_unknown = sys.first_unknown;
+    const std::vector<int>& n_unknowns = sys.n_unknowns;
+    const int nm = static_cast<int>(movable.size());
+    const int chunks = chunk_count(nm, 4096);
     std::vector<Vec3> b1(ns), b2(ns);
-    int nu = 0;
-    for (std::size_t i = 0; i < movable.size(); ++i) {
-      const int s = movable[i];
-      first_unknown[s] = nu;
-      n_unknowns[s] = norm(axis[i]) > 0 ? 1 : 2;
-      nu += n_unknowns[s];
-    }
-    MirrorMatrix A(mesh, f.corner_sector_, first_unknown, n_unknowns, nu);
+    std::vector<double> rhs(static_cast<std::size_t>(sys.A.n)), x;
     double first_rhs_norm = 0;
     for (int it = 0; it < options.mirror_iterations; ++it) {
       for (std::size_t i = 0; i < movable.size(); ++i) {
@@ -504,70 +517,77 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
           frame_of(f.sector_normal_[s], b1[s], b2[s]);
         }
       }
-      A.clear();
-      Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nu);
-      std::vector<double> scale(ns, 0.0);
-      for (Triangle t : mesh.triangles()) {
-        for (int q = 0; q < 3; ++q) {
-          const Corner cv = SurfaceMesh::corner(t, q), cw = SurfaceMesh::next(cv);
-          const Vec3 e = mesh.position(mesh.vertex(cw)) - mesh.position(mesh.vertex(cv));
-          const double l2 = norm2(e);
-          if (!(l2 > 0)) continue;
-          const double wt = 1.0 / (l2 * l2);
-          const int sv = f.corner_sector_[cv.idx], sw = f.corner_sector_[cw.idx];
-          const double r = dot(f.sector_normal_[sv] + f.sector_normal_[sw], e);
-          // residual r + sum_k J_k x_k
-          int idx[4];
-          double J[4];
-          int m = 0;
-          for (int s : {sv, sw}) {
-            if (first_unknown[s] < 0) continue;
-            idx[m] = first_unknown[s];
-            J[m++] = dot(b1[s], e);
-            if (n_unknowns[s] == 2) {
-              idx[m] = first_unknown[s] + 1;
-              J[m++] = dot(b2[s], e);
+      // Each sector's columns and right-hand side from the edges at its
+      // vertex: residual r + sum_k J_k x_k of every edge, weighted 1/l^4,
+      // and the pull towards the estimate.
+      run_chunks(nm, chunks, [&](int, int begin, int end) {
+        for (int i = begin; i < end; ++i) {
+          const int s = movable[i];
+          for (int k = 0; k < n_unknowns[s]; ++k) {
+            const int u = first_unknown[s] + k;
+            std::fill(sys.A.value.begin() + sys.A.outer[u], sys.A.value.begin() + sys.A.outer[u + 1], -0.0);
+            rhs[u] = 0;
+          }
+          double scale = 0;
+          for_sector_edges(members[i], [&](const MirrorEdge& edge) {
+            const Vec3 e = mesh.position(mesh.vertex(edge.cw)) - mesh.position(mesh.vertex(edge.cv));
+            const double l2 = norm2(e);
+            if (!(l2 > 0)) return;
+            const double wt = 1.0 / (l2 * l2);
+            const int sv = f.corner_sector_[edge.cv.idx], sw = f.corner_sector_[edge.cw.idx];
+            const double r = dot(f.sector_normal_[sv] + f.sector_normal_[sw], e);
+            int idx[4];
+            double J[4];
+            bool own[4];
+            int m = 0;
+            for (int t : {sv, sw}) {
+              if (first_unknown[t] < 0) continue;
+              idx[m] = first_unknown[t];
+              own[m] = t == s;
+              J[m++] = dot(b1[t], e);
+              if (n_unknowns[t] == 2) {
+                idx[m] = first_unknown[t] + 1;
+                own[m] = t == s;
+                J[m++] = dot(b2[t], e);
+              }
             }
-            scale[s] += wt * l2;
-          }
-          for (int a = 0; a < m; ++a) {
-            rhs(idx[a]) -= wt * J[a] * r;
-            for (int b = 0; b < m; ++b) A.add(idx[a], idx[b], wt * J[a] * J[b]);
+            scale += wt * l2;
+            for (int a = 0; a < m; ++a) {
+              if (!own[a]) continue;
+              rhs[idx[a]] -= wt * J[a] * r;
+              for (int c = 0; c < m; ++c) sys.A.add(idx[c], idx[a], wt * J[a] * J[c]);
+            }
+          });
+          const double mu = options.mirror_anchor * scale;
+          if (!(mu > 0)) continue;
+          const Vec3 d = estimate[i] - f.sector_normal_[s];
+          sys.A.add(first_unknown[s], first_unknown[s], mu);
+          rhs[first_unknown[s]] += mu * dot(d, b1[s]);
+          if (n_unknowns[s] == 2) {
+            sys.A.add(first_unknown[s] + 1, first_unknown[s] + 1, mu);
+            rhs[first_unknown[s] + 1] += mu * dot(d, b2[s]);
           }
         }
-      }
-      for (std::size_t i = 0; i < movable.size(); ++i) {
-        const int s = movable[i];
-        const double mu = options.mirror_anchor * scale[s];
-        if (!(mu > 0)) continue;
-        const Vec3 d = estimate[i] - f.sector_normal_[s];
-        A.add(first_unknown[s], first_unknown[s], mu);
-        rhs(first_unknown[s]) += mu * dot(d, b1[s]);
-        if (n_unknowns[s] == 2) {
-          A.add(first_unknown[s] + 1, first_unknown[s] + 1, mu);
-          rhs(first_unknown[s] + 1) += mu * dot(d, b2[s]);
-        }
-      }
-      Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
+      });
       // Residual 1e-6 of the first step's right-hand side: the Gauss-Newton
       // steps correct the rest (1e-10 took 2 s more on 500k triangles for
       // the same surface), and a later step, whose right-hand side is
       // already small, is solved to the same absolute accuracy, not to 1e-6
       // of itself.
-      const double rhs_norm = rhs.norm();
+      double rhs_norm = 0;
+      for (double v : rhs) rhs_norm += v * v;
+      rhs_norm = std::sqrt(rhs_norm);
       if (it == 0) first_rhs_norm = rhs_norm;
       if (!(rhs_norm > 1e-6 * first_rhs_norm)) break;
-      cg.setTolerance(std::min(1.0, 1e-6 * first_rhs_norm / rhs_norm));
-      cg.setMaxIterations(2000);
-      cg.compute(A.matrix());
-      if (cg.info() != Eigen::Success) break;
-      const Eigen::VectorXd x = cg.solve(rhs);
-      if (!x.allFinite()) break;
+      solve_conjugate_gradient(sys.A, rhs, std::min(1.0, 1e-6 * first_rhs_norm / rhs_norm), 2000, x);
+      bool finite = true;
+      for (double v : x) finite = finite && std::isfinite(v);
+      if (!finite) break;
       for (std::size_t i = 0; i < movable.size(); ++i) {
         const int s = movable[i];
         const int u = first_unknown[s];
-        const double x1 = std::clamp(x(u), -0.5, 0.5);
-        const double x2 = n_unknowns[s] == 2 ? std::clamp(x(u + 1), -0.5, 0.5) : 0.0;
+        const double x1 = std::clamp(x[u], -0.5, 0.5);
+        const double x2 = n_unknowns[s] == 2 ? std::clamp(x[u + 1], -0.5, 0.5) : 0.0;
         f.sector_normal_[s] = normalized(f.sector_normal_[s] + x1 * b1[s] + x2 * b2[s]);
       }
     }

@@ -28,7 +28,7 @@ struct GradationOptions {
   GradationSpace space = GradationSpace::Metric;
   // An edge is accepted when its excess (see gradation_excess) is at most
   // 1 + tolerance; below that nothing is changed (so a second run is a no-op).
-  double tolerance = 1e-6;
+  double tolerance = 1e-2;
   // Safety cap on metric updates, times the number of vertices.
   int max_updates_per_vertex = 200;
 };

@@ -245,7 +245,28 @@ double regular_curve_turn(const SurfaceMesh& m, Vertex v) {
   return f.size() == 2 ? curve_turn(m, v, f[0], f[1]) : 0;
 }
 
+// The turn resolve_surface weighs at edge c of T_G: the dihedral angle, or
+// on a feature curve or the boundary the curve's turn at its ends.
+double edge_turn(const SurfaceMesh& tg, Corner c) {
+  return is_feature_edge(tg, c) || !tg.opposite(c).is_valid()
+             ? std::max(regular_curve_turn(tg, tg.edge_from(c)), regular_curve_turn(tg, tg.edge_to(c)))
+             : dihedral_angle(tg, c);
+}
+
 }  // namespace
+
+std::optional<SurfaceKind> surface_before_metric(SurfaceKind kind, const SurfaceMesh& tg, double hausd,
+                                                 bool separate_geometry) {
+  if (kind != SurfaceKind::Auto) return kind;
+  if (separate_geometry || tg.n_triangles() == 0) return SurfaceKind::G1;
+  if (!(hausd > 0)) return std::nullopt;
+  const double abs_bound = 0.2 * hausd;
+  for (Corner c : tg.edges()) {
+    const Vec3 e = tg.position(tg.edge_to(c)) - tg.position(tg.edge_from(c));
+    if (!(norm(e) * edge_turn(tg, c) / 8 <= abs_bound)) return SurfaceKind::G1;
+  }
+  return std::nullopt;
+}
 
 SurfaceKind resolve_surface(SurfaceKind kind, const SurfaceMesh& tg, const MetricField& metric, double hausd) {
   if (kind != SurfaceKind::Auto) return kind;
@@ -255,9 +276,7 @@ SurfaceKind resolve_surface(SurfaceKind kind, const SurfaceMesh& tg, const Metri
   for (Corner c : tg.edges()) {
     const Vertex a = tg.edge_from(c), b = tg.edge_to(c);
     const Vec3 e = tg.position(b) - tg.position(a);
-    const double theta = is_feature_edge(tg, c) || !tg.opposite(c).is_valid()
-                             ? std::max(regular_curve_turn(tg, a), regular_curve_turn(tg, b))
-                             : dihedral_angle(tg, c);
+    const double theta = edge_turn(tg, c);
     const double l = std::max(metric_length(metric[a.idx], e), metric_length(metric[b.idx], e));
     if (!(l <= 1) || !(l * theta / 8 <= kFineGeometrySag) || !(norm(e) * theta / 8 <= abs_bound))
       return SurfaceKind::G1;
@@ -306,12 +325,20 @@ AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& 
   result.size_protection = size_protection_of(options);
 
   std::unique_ptr<GeometrySurface> geometry;
-  // The locator of T_G (either surface has one) is built on a thread of its
-  // own while the first metric is (with two threads or more, T_G of 4096
-  // triangles or more); a metric refused then waits for it.
+  // With two threads or more and T_G of 4096 triangles or more, the
+  // locator of T_G (either surface has one) is built on a thread of its own
+  // while the first metric is, and so are the frames and patches when the
+  // surface's kind does not wait for the metric (surface_before_metric); a
+  // metric refused then waits for them.
   std::future<std::unique_ptr<Locator>> early_locator;
-  if (threads > 1 && tg.n_triangles() >= 4096)
+  std::future<std::unique_ptr<GeometrySurface>> early_geometry;
+  if (threads > 1 && tg.n_triangles() >= 4096) {
     early_locator = std::async(std::launch::async, [&tg] { return std::make_unique<Locator>(tg); });
+    if (const auto kind = surface_before_metric(options.surface, tg, options.metric.hausd, separate))
+      early_geometry = std::async(std::launch::async, [&tg, kind, locator = std::move(early_locator)]() mutable {
+        return make_geometry(tg, *kind, std::move(locator));
+      });
+  }
   // The recipe of every cycle; a given metric is kept apart and moved into
   // the cycle's metric (a Given source's next one is the metric carried onto
   // the adapted mesh).
@@ -331,11 +358,15 @@ AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& 
     report.scaling_steps = metric.scaling_steps;
     check_predicted_size(metric.predicted_vertices, options.memory_limit);
     timer.done("metric");
-    if (!geometry) {  // after the first metric: a metric refused costs no surface
+    if (!geometry) {  // after the first metric (unless started early): a metric refused costs no surface
       // Auto is judged on T_G's own metric (T_0 is T_G in the first cycle).
-      const SurfaceKind kind =
-          resolve_surface(options.surface, tg, separate ? MetricField{} : metric.metric, options.metric.hausd);
-      geometry = make_geometry(tg, kind, std::move(early_locator));
+      if (early_geometry.valid()) {
+        geometry = early_geometry.get();
+      } else {
+        const SurfaceKind kind =
+            resolve_surface(options.surface, tg, separate ? MetricField{} : metric.metric, options.metric.hausd);
+        geometry = make_geometry(tg, kind, std::move(early_locator));
+      }
       result.surface = geometry->name();
       timer.done("surface (frames, Bezier patches, locator)");
     }

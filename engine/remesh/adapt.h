@@ -16,6 +16,7 @@
 #pragma once
 #include <functional>
 #include <future>
+#include <optional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -225,6 +226,12 @@ std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKin
 // setup 9.5 -> 2.4 s, peak memory 360 -> 203 MB). Other kinds as given.
 inline constexpr double kFineGeometrySag = 0.05;
 SurfaceKind resolve_surface(SurfaceKind kind, const SurfaceMesh& tg, const MetricField& metric, double hausd = 0);
+// The kind resolve_surface will return for T_G, when it is known before the
+// metric: a kind other than Auto; G1 for a separate geometry, an empty T_G
+// or an edge whose sagitta exceeds 0.2 hausd; nullopt otherwise (the
+// metric decides).
+std::optional<SurfaceKind> surface_before_metric(SurfaceKind kind, const SurfaceMesh& tg, double hausd,
+                                                 bool separate_geometry);
 
 // The control space of T_0 with `metric` as the options say (interpolation).
 std::unique_ptr<ControlSpace> make_control(const SurfaceMesh& t0, MetricField metric, bool t0_is_geometry,

@@ -526,9 +526,9 @@ std::vector<Remesher::BeyondBound> Remesher::edges_beyond_bound(const std::vecto
     const double bound = bound_at(d, relative_sum / 3);
     if (!(d.distance > bound)) return;
     const double lab = norm2(pb - pa), lbc = norm2(pc - pb), lca = norm2(pa - pc);
-    if (lab >= lbc && lab >= lca) out.push_back({d.distance, bound, v[0].idx, v[1].idx});
-    else if (lbc >= lca) out.push_back({d.distance, bound, v[1].idx, v[2].idx});
-    else out.push_back({d.distance, bound, v[2].idx, v[0].idx});
+    if (lab >= lbc && lab >= lca) out.push_back({d.distance, bound, v[0].idx, v[1].idx, v[2].idx});
+    else if (lbc >= lca) out.push_back({d.distance, bound, v[1].idx, v[2].idx, v[0].idx});
+    else out.push_back({d.distance, bound, v[2].idx, v[0].idx, v[1].idx});
   };
   if (around) {
     for (Triangle t : subset) check(t);
@@ -557,9 +557,26 @@ void Remesher::bound_distance(PassReport& r) {
     for (const BeyondBound& it : beyond) {
       if (interrupted(r) || splits_in_all >= budget) break;
       // An edge split earlier in the sweep is gone (its halves wait for the next one).
-      const Corner c = find_edge_corner(mesh, Vertex(it.a), Vertex(it.b));
+      Corner c = find_edge_corner(mesh, Vertex(it.a), Vertex(it.b));
       if (!c.is_valid()) continue;
-      const SplitPlan plan = can_split_onto_input(mesh_, c, options_.bound_split_turn_deg, it.bound);
+      SplitPlan plan = can_split_onto_input(mesh_, c, options_.bound_split_turn_deg, it.bound);
+      // A centroid beyond: when its longest edge cannot be split, the
+      // longer, then the shorter of the two others.
+      if (plan.why != Rejection::None && it.c >= 0 && !mesh.is_deleted(Vertex(it.c))) {
+        const Vertex a(it.a), b(it.b), v(it.c);
+        std::array<std::array<Vertex, 2>, 2> others = {{{b, v}, {v, a}}};
+        if (norm2(mesh.position(a) - mesh.position(v)) > norm2(mesh.position(b) - mesh.position(v)))
+          std::swap(others[0], others[1]);
+        for (const auto& [x, y] : others) {
+          const Corner e = find_edge_corner(mesh, x, y);
+          if (!e.is_valid()) continue;
+          const SplitPlan other = can_split_onto_input(mesh_, e, options_.bound_split_turn_deg, it.bound);
+          if (other.why != Rejection::None) continue;
+          c = e;
+          plan = other;
+          break;
+        }
+      }
       if (plan.why != Rejection::None) {
         refuse(r, PassKind::Final, plan.why);
         continue;

@@ -292,10 +292,13 @@ class Remesher {
   // distance_bound): the sweeps of splits onto the input.
   void bound_distance(PassReport& r);
   // An edge to split for the bound: its point's distance to T_G and the
-  // bound there.
+  // bound there. For a triangle's centroid, a-b is its longest edge and c
+  // its third vertex (the other edges are tried when that split is
+  // refused); -1 for an edge's midpoint.
   struct BeyondBound {
     double distance, bound;
     int a, b;
+    int c = -1;
   };
   // The edges to split for the bound, the farthest first: those whose
   // midpoint, and the longest of the triangles whose centroid, lies beyond it;
