@@ -50,14 +50,18 @@ CgReport solve_conjugate_gradient(const SymmetricColumns& A, const std::vector<d
     auto for_blocks = [&](auto&& per_block) {
       for (int blk = b0; blk < b1; ++blk) per_block(blk, blk * kBlock, std::min(n, (blk + 1) * kBlock));
     };
+    // z = D^-1 r at i; returns r . z there.
+    auto precondition = [&](int i) {
+      z[i] = inv_diag[i] * r[i];
+      return r[i] * z[i];
+    };
     for_blocks([&](int blk, int i0, int i1) {
       double srz = 0, sbb = 0;
       for (int i = i0; i < i1; ++i) {
         for (int k = A.outer[i]; k < A.outer[i + 1]; ++k)
           if (A.inner[k] == i && A.value[k] != 0) inv_diag[i] = 1.0 / A.value[k];
-        z[i] = inv_diag[i] * r[i];
+        srz += precondition(i);
         p[i] = z[i];
-        srz += r[i] * z[i];
         sbb += b[i] * b[i];
       }
       dot_a[blk] = srz;
@@ -92,9 +96,8 @@ CgReport solve_conjugate_gradient(const SymmetricColumns& A, const std::vector<d
         for (int i = i0; i < i1; ++i) {
           x[i] += alpha * p[i];
           r[i] -= alpha * q[i];
-          z[i] = inv_diag[i] * r[i];
           srr += r[i] * r[i];
-          srz += r[i] * z[i];
+          srz += precondition(i);
         }
         dot_a[blk] = srz;
         dot_b[blk] = srr;
