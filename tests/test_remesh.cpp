@@ -18,6 +18,7 @@
 #include "mesh/operators.h"
 #include "metric/metric_field.h"
 #include "metric/quality.h"
+#include "remesh/adapt.h"
 #include "remesh/remesher.h"
 #include "test_util.h"
 
@@ -758,52 +759,34 @@ TEST_CASE("remesh: the schedule walks round_plan() round after round, at most ma
   check_state(*s->adapted, "two rounds");
 }
 
-TEST_CASE("remesh: EdgeStamps finds, reassigns and erases like a map, through growth and wrapped probe runs") {
-  EdgeStamps table;
-  std::unordered_map<std::uint64_t, std::uint32_t> reference;
-  std::mt19937 rng(7);
-  // Few distinct vertices: many collisions and long probe runs.
-  std::uniform_int_distribution<int> vertex(0, 400), action(0, 9);
-  for (int step = 0; step < 200000; ++step) {
-    const int a = vertex(rng), b = vertex(rng);
-    const std::uint64_t k = EdgeStamps::key(a, b);
-    REQUIRE(k == EdgeStamps::key(b, a));
-    const int what = action(rng);
-    if (what < 6) {
-      table.assign(k, static_cast<std::uint32_t>(step));
-      reference[k] = static_cast<std::uint32_t>(step);
-    } else if (what < 9) {
-      table.erase(k);
-      reference.erase(k);
-    } else {
-      const std::uint32_t* found = table.find(k);
-      const auto it = reference.find(k);
-      REQUIRE((found != nullptr) == (it != reference.end()));
-      if (found) CHECK(*found == it->second);
-    }
-  }
-  CHECK(table.size() == reference.size());
-  for (const auto& [k, v] : reference) {
-    const std::uint32_t* found = table.find(k);
-    REQUIRE(found);
-    CHECK(*found == v);
-  }
-  CHECK(table.bytes() <= 12 * 4 * (reference.size() + 1024));
-  table.clear();
-  CHECK(table.size() == 0);
-  CHECK(table.find(EdgeStamps::key(1, 2)) == nullptr);
-}
-
-TEST_CASE("remesh: EdgeStamps drops the entries its keep test refuses when it fills up, and keeps the others") {
-  EdgeStamps table;
-  // Odd stamps are stale.
-  auto keep = [](std::uint64_t, std::uint32_t stamp) { return stamp % 2 == 0; };
-  for (int i = 0; i < 5000; ++i) table.assign(EdgeStamps::key(i, i + 1), static_cast<std::uint32_t>(i), keep);
-  CHECK(table.size() < 5000);  // rebuilt at least once, without the odd ones seen then
-  for (int i = 0; i < 5000; i += 2) {
-    const std::uint32_t* found = table.find(EdgeStamps::key(i, i + 1));
-    REQUIRE(found);
-    CHECK(*found == static_cast<std::uint32_t>(i));
-  }
-  CHECK(table.bytes() <= 12 * 2 * 5000);
+TEST_CASE("remesh: the sag memo is a cache: the same adapted mesh without it, where many edges sag off the input") {
+  // The fandisk's curvature metric with hausd: the split passes measure the
+  // sag of every edge, again after each change around it; the memo keeps the
+  // edges found flat per corner slot, which the operators rewrite.
+  ANISURF_REQUIRE_SHARED(path, "meshes/fandisk.off");
+  const SurfaceMesh in = load_mesh(path);
+  auto run = [&](bool memo) {
+    remesh::AdaptOptions o;
+    o.metric.source = MetricRecipe::Source::Curvature;
+    o.metric.hausd = 2e-4 * in.bbox().diagonal();
+    o.threads = 1;
+    o.remesh.sag_memo = memo;
+    return remesh::adapt({in}, o);
+  };
+  const remesh::AdaptResult with = run(true), without = run(false);
+  REQUIRE(with.mesh.validate().ok());
+  int splits = 0;
+  for (const remesh::CycleReport& c : with.cycles)
+    for (const PassReport& p : c.passes) splits += p.splits;
+  MESSAGE("fandisk: " << with.mesh.n_triangles() << " triangles, " << splits << " splits");
+  CHECK(splits > 0);
+  REQUIRE(with.mesh.n_vertices() == without.mesh.n_vertices());
+  REQUIRE(with.mesh.n_triangles() == without.mesh.n_triangles());
+  int moved = 0;
+  for (Vertex v : with.mesh.vertices()) moved += with.mesh.position(v) == without.mesh.position(v) ? 0 : 1;
+  CHECK(moved == 0);
+  int rewired = 0;
+  for (Triangle t : with.mesh.triangles())
+    for (int k = 0; k < 3; ++k) rewired += with.mesh.vertex(t, k) == without.mesh.vertex(t, k) ? 0 : 1;
+  CHECK(rewired == 0);
 }

@@ -937,9 +937,13 @@ bool sags_off_input(AdaptedMesh& m, const Vec3& pa, const SymTensor3& Ma, const 
 
 bool edge_sags_off_input(AdaptedMesh& m, Vertex a, Vertex b, const OperatorOptions& o) {
   if (!(o.surface_sag > 0)) return false;
+  const Corner e = find_edge_corner(m.mesh(), a, b);
+  return edge_sags_off_input(m, a, b, e.is_valid() && is_feature_edge(m.mesh(), e), o);
+}
+
+bool edge_sags_off_input(AdaptedMesh& m, Vertex a, Vertex b, bool curve, const OperatorOptions& o) {
+  if (!(o.surface_sag > 0)) return false;
   const SurfaceMesh& mesh = m.mesh();
-  const Corner e = find_edge_corner(mesh, a, b);
-  const bool curve = e.is_valid() && is_feature_edge(mesh, e);
   return sags_off_input(m, mesh.position(a), m.metric(a), m.surface_normal(a), a, mesh.position(b), m.metric(b),
                         m.surface_normal(b), b, curve, o);
 }

@@ -206,5 +206,7 @@ bool sags_off_input(AdaptedMesh& m, const Vec3& pa, const SymTensor3& Ma, const 
                     const SymTensor3& Mb, const Vec3& nb, Vertex b, bool curve, const OperatorOptions& o);
 // The same for the edge a-b of T_1 as it is.
 bool edge_sags_off_input(AdaptedMesh& m, Vertex a, Vertex b, const OperatorOptions& o);
+// ... with `curve` known (the edge lies on a feature curve).
+bool edge_sags_off_input(AdaptedMesh& m, Vertex a, Vertex b, bool curve, const OperatorOptions& o);
 
 }  // namespace anisurf::remesh

@@ -86,8 +86,8 @@ struct SplitEdges {
   using Order = Longer;
   // Too long, or (section 5's fidelity) too far off the input surface.
   template <class Sags>
-  static bool outside(Sags&& sags, Vertex a, Vertex b, double length, const OperatorOptions& o) {
-    return length > o.lmax || sags(a, b);
+  static bool outside(Sags&& sags, Corner c, double length, const OperatorOptions& o) {
+    return length > o.lmax || sags(c);
   }
   static SplitPlan plan(AdaptedMesh& m, Corner c, const OperatorOptions& o) { return can_split(m, c, o); }
 };
@@ -95,9 +95,21 @@ struct CollapseEdges {
   static constexpr PassKind kind = PassKind::Collapse;
   using Order = Shorter;
   template <class Sags>
-  static bool outside(Sags&&, Vertex, Vertex, double length, const OperatorOptions& o) { return length < o.lmin; }
+  static bool outside(Sags&&, Corner, double length, const OperatorOptions& o) { return length < o.lmin; }
   static CollapsePlan plan(AdaptedMesh& m, Corner c, const OperatorOptions& o) { return can_collapse(m, c, o); }
 };
+
+// f(w, e) for each neighbour w of v in the order of ring_vertices(v), e a
+// corner naming the edge v -> w.
+template <class F>
+void for_ring_edges(const SurfaceMesh& mesh, Vertex v, F&& f) {
+  Corner last;
+  for (Corner c : mesh.fan_corners(v)) {
+    f(mesh.vertex(M::next(c)), M::prev(c));
+    last = c;
+  }
+  if (last.is_valid() && mesh.is_boundary(v)) f(mesh.vertex(M::prev(last)), M::next(last));
+}
 
 // The edges of the triangles around v that are opposite v.
 std::vector<std::array<int, 2>> link_edges(const SurfaceMesh& mesh, Vertex v) {
@@ -147,28 +159,31 @@ void Remesher::mark_all() {
   const std::size_t n = static_cast<std::size_t>(mesh_.mesh().vertex_capacity());
   swap_active_.assign(n, 1);
   smooth_active_.assign(n, 1);
-  flat_edges_.clear();
+  flat_at_.assign(flat_at_.size(), 0);
 }
 
-bool Remesher::edge_sags(Vertex a, Vertex b) {
-  const std::uint64_t edge = EdgeStamps::key(a.idx, b.idx);
+bool Remesher::edge_sags(Corner c) {
+  const SurfaceMesh& mesh = mesh_.mesh();
+  // One direction for the measure, whichever corner names the edge.
+  Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
+  if (b.idx < a.idx) std::swap(a, b);
+  const Corner o = mesh.opposite(c);
+  const std::size_t slot = static_cast<std::size_t>(o.is_valid() && o.idx < c.idx ? o.idx : c.idx);
   auto marked_at = [&](Vertex v) {
     const std::size_t i = static_cast<std::size_t>(v.idx);
     return i < marked_at_.size() ? marked_at_[i] : std::uint64_t{0};
   };
-  if (const std::uint32_t* found = flat_edges_.find(edge)) {
-    if (marked_at(a) <= *found && marked_at(b) <= *found) return false;
-    flat_edges_.erase(edge);
+  if (slot < flat_at_.size() && flat_at_[slot] != 0) {
+    const std::uint64_t found = flat_at_[slot] - 1;
+    if (marked_at(a) <= found && marked_at(b) <= found) return false;
   }
-  const bool sags = edge_sags_off_input(mesh_, a, b, options_.op);
-  // The memo's stamps are 32-bit: past 2^32 marks it is not filled any more.
-  // Entries of edges with an end marked since are stale (gone or changed):
-  // dropped when the table fills up.
-  if (!sags && marks_ <= std::numeric_limits<std::uint32_t>::max())
-    flat_edges_.assign(edge, static_cast<std::uint32_t>(marks_), [&](std::uint64_t k, std::uint32_t stamp) {
-      return marked_at(Vertex(static_cast<int>(k >> 32))) <= stamp &&
-             marked_at(Vertex(static_cast<int>(k & 0xffffffffu))) <= stamp;
-    });
+  const bool sags = edge_sags_off_input(mesh_, a, b, is_feature_edge(mesh, c), options_.op);
+  // The memo's stamps are 32-bit: past 2^32 - 1 marks it is not filled any more.
+  if (!sags && options_.sag_memo && marks_ < std::numeric_limits<std::uint32_t>::max()) {
+    if (slot >= flat_at_.size())
+      flat_at_.resize(std::max<std::size_t>(slot + 1, 3 * static_cast<std::size_t>(mesh.triangle_capacity())), 0);
+    flat_at_[slot] = static_cast<std::uint32_t>(marks_ + 1);
+  }
   return sags;
 }
 
@@ -249,7 +264,12 @@ int Remesher::local_swaps(Vertex v, PassReport& r) {
       if (!c.is_valid()) continue;
       const SwapPlan plan = can_swap(mesh_, c, options_.op);
       if (plan.why != Rejection::None) continue;
-      swap(mesh_, c);
+      const Corner d = swap(mesh_, c);
+      // The two triangles rewritten: the sag memo of their slots is stale.
+      for (Corner x : {d, mesh.opposite(d)}) {
+        stamp(mesh.vertex(x));
+        stamp(mesh.edge_from(x));
+      }
       ++n;
       ++r.swaps;
       changed = true;
@@ -286,14 +306,14 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
   SurfaceMesh& mesh = mesh_.mesh();
   const OperatorOptions& o = options_.op;
   EdgeHeap<typename Edges::Order> heap(heap_);
-  auto sags = [this](Vertex a, Vertex b) { return edge_sags(a, b); };
+  auto sags = [this](Corner c) { return edge_sags(c); };
   // Room for every edge at once: a heap grown by doubling holds its old and
   // new storage together at each step.
   heap_.reserve(static_cast<std::size_t>(mesh.n_triangles()) * 3 / 2 + 16);
   for (Corner c : mesh.edges()) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     const double l = mesh_.length(a, b);
-    if (Edges::outside(sags, a, b, l, o)) heap.push({static_cast<float>(l), a.idx, b.idx, c.idx});
+    if (Edges::outside(sags, c, l, o)) heap.push({static_cast<float>(l), a.idx, b.idx, c.idx});
   }
   // Splits only add triangles, collapses only remove them: the budget
   // follows a refinement and keeps its start through a coarsening.
@@ -308,7 +328,7 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
     const EdgeItem it = heap.pop();
     const Vertex a(it.a), b(it.b);
     const Corner c = edge_corner(mesh, it.corner, a, b);
-    if (!c.is_valid() || !Edges::outside(sags, a, b, mesh_.length(a, b), o)) continue;
+    if (!c.is_valid() || !Edges::outside(sags, c, mesh_.length(a, b), o)) continue;
     if (in_cache(a, b, Edges::kind)) {  // Remark 5
       refuse(r, Edges::kind, Rejection::Cache);
       continue;
@@ -321,10 +341,10 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
     ++changes;
     const Vertex v = apply(r, c, plan, follow_new_edges);
     if (!follow_new_edges || !v.is_valid()) continue;
-    for (Vertex w : mesh.ring_vertices(v)) {
+    for_ring_edges(mesh, v, [&](Vertex w, Corner e) {
       const double l = mesh_.length(v, w);
-      if (Edges::outside(sags, v, w, l, o)) heap.push({static_cast<float>(l), v.idx, w.idx, -1});
-    }
+      if (Edges::outside(sags, e, l, o)) heap.push({static_cast<float>(l), v.idx, w.idx, -1});
+    });
   }
   return changes;
 }
@@ -360,25 +380,38 @@ void Remesher::collapse_pass(PassReport& r) { priority_pass<CollapseEdges>(r, tr
 
 void Remesher::swap_pass(PassReport& r) {
   SurfaceMesh& mesh = mesh_.mesh();
-  // First in, first out: a, b, the corner naming a -> b when queued. One
-  // array (its memory goes back to the system with it; a deque's small
-  // blocks stay with the allocator), its consumed front dropped as it grows.
-  std::vector<std::array<int, 3>> queue;
-  std::size_t head = 0;
+  // First in, first out: the active edges as they are now (a, b, the corner
+  // naming a -> b), then the edges queued again around each swap. The first
+  // list is sized exactly (a sweep counts it) and the second is kept apart,
+  // its consumed front dropped as it grows: one queue grown by doubling held
+  // its old and new storage together, the remesher's peak of memory.
+  using Entry = std::array<int, 3>;
   std::vector<std::uint8_t> active(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
   swap_active_.resize(active.size(), 0);
   active.swap(swap_active_);
-  queue.reserve(static_cast<std::size_t>(mesh.n_triangles()) * 3 / 2 + 16);
-  for (Corner c : mesh.edges()) {
-    const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
-    if (!mesh.is_boundary_edge(c) && (active[a.idx] || active[b.idx])) queue.push_back({a.idx, b.idx, c.idx});
-  }
-  long long budget = static_cast<long long>(options_.max_swap_visits) * static_cast<long long>(queue.size()) + 16;
-  while (head < queue.size() && budget-- > 0 && !interrupted(r)) {
-    const auto e = queue[head++];
-    if (head >= 4096 && 2 * head >= queue.size()) {
-      queue.erase(queue.begin(), queue.begin() + static_cast<std::ptrdiff_t>(head));
-      head = 0;
+  auto queued = [&](Corner c) {
+    return !mesh.is_boundary_edge(c) && (active[mesh.edge_from(c).idx] || active[mesh.edge_to(c).idx]);
+  };
+  std::size_t count = 0;
+  for (Corner c : mesh.edges()) count += queued(c) ? 1 : 0;
+  std::vector<Entry> first;
+  first.reserve(count);
+  for (Corner c : mesh.edges())
+    if (queued(c)) first.push_back({mesh.edge_from(c).idx, mesh.edge_to(c).idx, c.idx});
+  std::vector<Entry>& again = swap_retries_;
+  again.clear();
+  std::size_t head = 0, again_head = 0;
+  long long budget = static_cast<long long>(options_.max_swap_visits) * static_cast<long long>(first.size()) + 16;
+  while ((head < first.size() || again_head < again.size()) && budget-- > 0 && !interrupted(r)) {
+    Entry e;
+    if (head < first.size()) {
+      e = first[head++];
+    } else {
+      e = again[again_head++];
+      if (again_head >= 4096 && 2 * again_head >= again.size()) {
+        again.erase(again.begin(), again.begin() + static_cast<std::ptrdiff_t>(again_head));
+        again_head = 0;
+      }
     }
     const Corner c = edge_corner(mesh, e[2], Vertex(e[0]), Vertex(e[1]));
     if (!c.is_valid()) continue;
@@ -392,7 +425,7 @@ void Remesher::swap_pass(PassReport& r) {
     // Section 5.4: the four edges around the new diagonal are tried again.
     const Corner od = mesh.opposite(d);
     for (Corner x : {M::next(d), M::prev(d), M::next(od), M::prev(od)})
-      queue.push_back({mesh.edge_from(x).idx, mesh.edge_to(x).idx, x.idx});
+      again.push_back({mesh.edge_from(x).idx, mesh.edge_to(x).idx, x.idx});
     for (Corner x : {d, od}) {
       record_touched(r, mesh.vertex(x));
       record_touched(r, mesh.edge_from(x));
@@ -400,6 +433,7 @@ void Remesher::swap_pass(PassReport& r) {
       mark(mesh.edge_from(x));
     }
   }
+  again.clear();
 }
 
 void Remesher::smooth_pass(PassReport& r, double visit_below) {

@@ -20,7 +20,6 @@
 #include <vector>
 
 #include "metric/mesh_quality.h"
-#include "remesh/edge_stamps.h"
 #include "remesh/operators.h"
 
 namespace anisurf::remesh {
@@ -78,6 +77,9 @@ struct RemeshOptions {
   // PassReport::touched is filled (the editor shows it); off saves 4 bytes
   // per touched vertex and pass for batch runs.
   bool record_touched = true;
+  // The split passes remember the edges found not to sag off the input (a
+  // cache: the output is the same without it, only slower).
+  bool sag_memo = true;
   // run() measures the state (histogram, quality) after every pass; off:
   // only after the last pass of each round and the final pass (a sweep over
   // the mesh saved per pass; step() always measures).
@@ -324,10 +326,15 @@ class Remesher {
   // it for the next swap and smoothing passes.
   void stamp(Vertex v);
   void mark_all();
-  // edge_sags_off_input(a, b), remembered for the edges found not to sag:
-  // such an edge is not measured again until one of its ends is marked
-  // (mark, mark_all: its place, metric or neighbourhood changed).
-  bool edge_sags(Vertex a, Vertex b);
+  // edge_sags_off_input for the edge named by corner c, remembered for the
+  // edges found not to sag: such an edge is not measured again until one of
+  // its ends is marked or stamped (its place, metric or neighbourhood
+  // changed). The memo is kept per corner slot (at the edge's lower corner),
+  // so an entry outlives its edge when the slot is rewritten: every change of
+  // the triangles therefore stamps the vertices of the triangles it writes
+  // (touch, mark or stamp) before the next query, which makes the slot's
+  // older entry stale.
+  bool edge_sags(Corner c);
   // Reserves the mesh arrays for the size the target metric asks for.
   void reserve_for_metric();
 
@@ -336,6 +343,7 @@ class Remesher {
   std::deque<Modification> cache_;
   int smoothing_done_ = 0;
   std::vector<std::uint8_t> swap_active_, smooth_active_;  // per vertex slot
+  std::vector<std::array<int, 3>> swap_retries_;  // swap_pass: the edges queued again (kept for the next pass)
   Schedule schedule_;
   PassReport last_;  // the state after the last pass of the schedule (valid if has_last_)
   bool has_last_ = false;
@@ -345,7 +353,8 @@ class Remesher {
   std::vector<std::uint8_t> touched_mark_;  // per vertex slot: in the pass's touched list
   std::uint64_t marks_ = 0;                 // marks so far
   std::vector<std::uint64_t> marked_at_;    // per vertex slot: marks_ at its last mark
-  EdgeStamps flat_edges_;  // edge -> marks_ when found not to sag
+  // Per corner slot: 1 + marks_ when the edge it names was found not to sag, 0: none.
+  std::vector<std::uint32_t> flat_at_;
 };
 
 }  // namespace anisurf::remesh
