@@ -74,6 +74,18 @@ class LocalFit {
   // Normal of the height function fitted in the frame of n0 through the
   // origin, or zero if ill-posed.
   static Vec3 fit(const std::vector<Vec3>& pts, const Vec3& n0, int degree) {
+    // Up to kStackRows points (every regular neighbourhood) the least-squares
+    // system lives on the stack: no allocation per vertex.
+    constexpr int kStackRows = 64;
+    if (pts.size() <= kStackRows)
+      return fit_in<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kStackRows, 9>,
+                    Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kStackRows, 1>>(pts, n0, degree);
+    return fit_in<Eigen::MatrixXd, Eigen::VectorXd>(pts, n0, degree);
+  }
+
+ private:
+  template <class Matrix, class Vector>
+  static Vec3 fit_in(const std::vector<Vec3>& pts, const Vec3& n0, int degree) {
     const int m = static_cast<int>(pts.size());
     const int k = degree == 3 ? 9 : 5;
     if (m < k) return {};
@@ -83,8 +95,8 @@ class LocalFit {
     for (const Vec3& p : pts) h += norm(p);
     h /= m;
     if (!(h > 0)) return {};
-    Eigen::MatrixXd A(m, k);
-    Eigen::VectorXd z(m);
+    Matrix A(m, k);
+    Vector z(m);
     for (int i = 0; i < m; ++i) {
       const double x = dot(pts[i], t1) / h, y = dot(pts[i], t2) / h;
       z(i) = dot(pts[i], n0) / h;
@@ -100,15 +112,14 @@ class LocalFit {
         A(i, 8) = y * y * y;
       }
     }
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
+    Eigen::ColPivHouseholderQR<Matrix> qr(A);
     qr.setThreshold(1e-8);
     if (qr.rank() < k) return {};
-    const Eigen::VectorXd c = qr.solve(z);
+    const Vector c = qr.solve(z);
     // z = c0 x + c1 y + ... : the normal is (-c0, -c1, 1) in the frame
     return normalized(n0 - c(0) * t1 - c(1) * t2);
   }
 
- private:
   void visit_tri(Triangle t) {
     if (tri_mark_[t.idx]) return;
     tri_mark_[t.idx] = 1;

@@ -818,14 +818,17 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
     for (const FeatureEdgeAt& f : feature_edges_at(mesh, v)) curve_nbrs.push_back(f.other);
   const std::vector<Vertex>& nbrs = kind == VertexKind::Curve ? curve_nbrs : ring;
   const Vec3 s = mesh.position(v);
-  const SymTensor3 Mi_inv = inverse(m.metric(v));
-  // Eq. 19 with the edge metrics M_j = ((M_s^-1 + M_j^-1) / 2)^-1.
+  const SymTensor3& Mi = m.metric(v);
+  const SymTensor3 Mi_inv = inverse(Mi);
+  // Eq. 19 with the edge metrics M_j = ((M_s^-1 + M_j^-1) / 2)^-1 (M_s
+  // itself where both ends hold the same metric: a uniform field).
   SymTensor3 A{};
   Vec3 rhs;
   double shortest = INFINITY;
   for (Vertex w : ring) shortest = std::min(shortest, norm(mesh.position(w) - s));
   for (Vertex w : nbrs) {
-    const SymTensor3 Mj = inverse(0.5 * (Mi_inv + inverse(m.metric(w))));
+    const SymTensor3& Mw = m.metric(w);
+    const SymTensor3 Mj = Mw == Mi ? Mi : inverse(0.5 * (Mi_inv + inverse(Mw)));
     A += Mj;
     rhs += Mj * mesh.position(w);
   }
