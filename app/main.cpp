@@ -16,6 +16,12 @@ int main(int argc, char** argv) {
   // behind stay resident in the heap: ~10% more peak memory on the large
   // refinements (bench/bench_remesh.py).
   mallopt(M_MMAP_THRESHOLD, 256 * 1024);
+  // Smaller blocks come from the heap, whose free top glibc gives back to
+  // the system beyond 128 KB: the next pass then faults the same pages in
+  // again, one by one (slow on virtual machines: 20% of a 0.4 s run's time).
+  // The top is kept up to 64 MB; the peak stays within a few MB
+  // (bench/bench_remesh.py --peer).
+  mallopt(M_TRIM_THRESHOLD, 64 * 1024 * 1024);
 #endif
   auto commands = anisurf::cli::engine_commands();
 #ifdef ANISURF_WITH_GL

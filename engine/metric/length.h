@@ -40,6 +40,7 @@ double length_linear_size(double l0, double l1);
 double length_fraction_parameter(double l0, double l1, double fraction, LengthFormula formula);
 // Length of the edge vector e from the metrics at its ends (eq. 6 or 7).
 inline double edge_length(const SymTensor3& M0, const SymTensor3& M1, const Vec3& e, LengthFormula formula) {
+  if (M0 == M1) return metric_length(M0, e);  // both formulas: the length in the one metric
   const double l0 = metric_length(M0, e), l1 = metric_length(M1, e);
   return formula == LengthFormula::LinearMetric ? length_linear_metric(l0, l1) : length_linear_size(l0, l1);
 }

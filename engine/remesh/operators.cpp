@@ -737,9 +737,12 @@ SwapPlan can_swap(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
   // long chords of the curved surface, which no split could refine later.
   plan.quality_before =
       std::min(m.quality_in_one_metric({pa, pb, pd}, {Ma, Mb, Md}), m.quality_in_one_metric({pe, pd, pb}, {Me, Md, Mb}));
-  plan.quality_after =
-      std::min(m.quality_in_one_metric({pa, pb, pe}, {Ma, Mb, Me}), m.quality_in_one_metric({pe, pd, pa}, {Me, Md, Ma}));
-  if (!(plan.quality_after > o.swap_gain * plan.quality_before)) {
+  // The second new triangle is measured only when the first one gains.
+  const double needed = o.swap_gain * plan.quality_before;
+  plan.quality_after = m.quality_in_one_metric({pa, pb, pe}, {Ma, Mb, Me});
+  if (plan.quality_after > needed)
+    plan.quality_after = std::min(plan.quality_after, m.quality_in_one_metric({pe, pd, pa}, {Me, Md, Ma}));
+  if (!(plan.quality_after > needed)) {
     plan.why = Rejection::Quality;
     return plan;
   }

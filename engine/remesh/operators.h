@@ -164,7 +164,9 @@ CollapsePlan can_remove_vertex(AdaptedMesh& m, Vertex v, const OperatorOptions& 
 // --- edge swap (section 5.4) --------------------------------------------------
 struct SwapPlan {
   Rejection why = Rejection::None;
-  double quality_before = 0, quality_after = 0;  // min c_K of the two triangles (in one metric each)
+  // min c_K of the two triangles (in one metric each); refused for Quality,
+  // quality_after may be the first new triangle's alone (it fails already).
+  double quality_before = 0, quality_after = 0;
 };
 // Interior non-feature edges only; refused when a new triangle turns too far
 // from the old pair or the pair folds more than before, or when the worst
