@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <future>
 #include <iostream>
 
 #include <sys/ioctl.h>
@@ -15,6 +16,7 @@
 #include "cli/progress.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "geometry/parallel_chunks.h"
 #include "io/mesh_io.h"
 #include "metric/metric_field.h"
 #include "metric/surface_metric.h"
@@ -428,12 +430,26 @@ void write_adapt_outputs(const AdaptCommandLine& c, const remesh::AdaptResult& r
     outputs.commit();
     return;
   }
-  save_mesh(outputs.temporary(c.out), t1);
-  write_sol(outputs.temporary(sol_path_for(c.out)), metric, t1.vertex_capacity(), 3);
+  // The mesh, its metric and the fields are independent files: formatted
+  // and written at once, one thread each (the numbers' text is most of it),
+  // when --threads allows two.
+  const std::string mesh_tmp = outputs.temporary(c.out), sol_tmp = outputs.temporary(sol_path_for(c.out));
+  std::string fields_tmp;
   if (!interpolated.empty()) {
     *fields_path = fields_path_for(c.out);
-    write_sol(outputs.temporary(*fields_path), interpolated, t1.vertex_capacity(), 3);
+    fields_tmp = outputs.temporary(*fields_path);
   }
+  auto sol = std::async(available_threads() > 1 ? std::launch::async : std::launch::deferred, [&] {
+    write_sol(sol_tmp, metric, t1.vertex_capacity(), 3);
+    if (!fields_tmp.empty()) write_sol(fields_tmp, interpolated, t1.vertex_capacity(), 3);
+  });
+  try {
+    save_mesh(mesh_tmp, t1);
+  } catch (...) {
+    sol.wait();  // the temporaries are removed with the set, after the writer is done
+    throw;
+  }
+  sol.get();
   outputs.commit();
 }
 
