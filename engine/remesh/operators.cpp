@@ -799,7 +799,7 @@ bool moved_edge_sags_off_input(AdaptedMesh& m, Vertex v, const Placement& at, co
     if (e.is_valid() && is_feature_edge(mesh, e)) continue;  // curve segments: curve_sag_ok
     if (sags_off_input(m, at.position, at.values.metric, at.normal, v, mesh.position(w), m.metric(w),
                        m.surface_normal(w), w, false, o) &&
-        !edge_sags_off_input(m, v, w, o))
+        !edge_sags_off_input(m, v, w, false, o))
       return true;
   }
   return false;
