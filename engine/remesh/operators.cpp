@@ -576,7 +576,7 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
 
 }  // namespace
 
-CollapsePlan can_collapse(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
+CollapsePlan can_collapse(AdaptedMesh& m, Corner c, const OperatorOptions& o, double length) {
   const SurfaceMesh& mesh = m.mesh();
   const Vertex p = mesh.edge_from(c), q = mesh.edge_to(c);
   const VertexKind kp = m.kind(p), kq = m.kind(q);
@@ -599,7 +599,9 @@ CollapsePlan can_collapse(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
   };
   std::array<Option, 3> options;
   int n_options = 0;
-  if (kp == kq && removable(kp) == Rejection::None) options[n_options++] = {p, q, kp, kq, true};
+  const bool midpoint = kp == kq && removable(kp) == Rejection::None;
+  const bool in_place_first = length >= 0 && length < o.collapse_in_place_length;
+  if (midpoint && !in_place_first) options[n_options++] = {p, q, kp, kq, true};
   // The less constrained end first.
   if (rank(kp) <= rank(kq)) {
     options[n_options++] = {p, q, kp, kq, false};
@@ -608,6 +610,7 @@ CollapsePlan can_collapse(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
     options[n_options++] = {q, p, kq, kp, false};
     options[n_options++] = {p, q, kp, kq, false};
   }
+  if (midpoint && in_place_first) options[n_options++] = {p, q, kp, kq, true};
   Rejection last = Rejection::Fixed;
   bool topology_checked = false;
   for (int i = 0; i < n_options; ++i) {

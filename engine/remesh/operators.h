@@ -90,6 +90,12 @@ struct OperatorOptions {
   // Collapse: the worst new quality must be at least the worst old quality
   // or this threshold (section 5.1's metric check).
   double collapse_quality = 0.3;
+  // Collapse: an edge shorter than this in the metric (far below lmin: a
+  // coarsening, where the next collapses and the smoothing place the
+  // vertices again) first tries keeping an end where it is, which needs no
+  // projection onto the surface; the midpoint comes after. 0: the midpoint
+  // first for every edge whose ends are alike.
+  double collapse_in_place_length = 0.3;
   // Swap: the new worst quality must exceed the old one by this factor (eq. 17, section 5.4).
   double swap_gain = 1.0 + 1e-6;
   // Move (section 5.5): relaxation omega of the displacement toward eq. 19,
@@ -149,11 +155,13 @@ struct CollapsePlan {
 };
 // Chooses the removed vertex (section 5.1: never a fixed one, a curve vertex
 // only along its curve, an interior one before a curve one; two similar ones:
-// the kept one moves to the projection of the midpoint, else stays), then
-// checks the topology, the curve tangents, inversion and normals, the new
-// edge lengths (<= lmax) and the quality. Tries the alternatives in turn and
-// returns the first that passes, or the last refusal.
-CollapsePlan can_collapse(AdaptedMesh& m, Corner c, const OperatorOptions& o);
+// the kept one moves to the projection of the midpoint, else stays; an edge
+// of metric length `length` below collapse_in_place_length tries the ends
+// staying first), then checks the topology, the curve tangents, inversion
+// and normals, the new edge lengths (<= lmax) and the quality. Tries the
+// alternatives in turn and returns the first that passes, or the last
+// refusal. `length` < 0: not known (the midpoint first).
+CollapsePlan can_collapse(AdaptedMesh& m, Corner c, const OperatorOptions& o, double length = -1);
 // Pre: plan.why == None. Returns the kept vertex.
 Vertex collapse(AdaptedMesh& m, const CollapsePlan& plan);
 // Vertex suppression (section 5.2): removes v by collapsing one of its edges

@@ -203,7 +203,7 @@ struct Schedule {
 class Remesher {
  public:
   struct EdgeItem {  // an edge waiting in the split or collapse heap (16 bytes)
-    float length;  // the order only: the pass measures the edge again when it pops
+    float length;  // the order only (rounded): the pass measures the edge again when it pops
     int a, b;
     int corner;  // the corner naming a -> b when pushed (valid while it still does)
   };
