@@ -255,6 +255,38 @@ TEST_CASE("hessian: the geometric metric of a cylinder: sqrt(8 hausd r) across, 
   CHECK(worst_along < 1e-4);  // principal directions a hair off the axis mix in the size across
 }
 
+TEST_CASE("hessian: the ring quadric fits of the deviation bound give the sphere's and the cylinder's sizes") {
+  // MetricRecipe::deviation_fit: quadrics over 1-rings, first order. On the
+  // unit sphere (5120 triangles) the sizes are sqrt(8 hausd) within 1%, on
+  // the cylinder sqrt(8 hausd r) across and hmax along the axis.
+  const double hausd = 1e-2;
+  const SurfaceMesh sphere = rebuilt(icosphere(4));
+  const MetricField S = curvature_metric(sphere, hausd, {}, ring_quadric_fit());
+  double worst = 0;
+  for (int i = 0; i < sphere.vertex_capacity(); ++i)
+    for (double h : sizes_and_directions(S[i]).sizes) worst = std::max(worst, std::fabs(h / std::sqrt(8 * hausd) - 1));
+  const double r = 2, hmax = 1.5, cyl_hausd = 5e-2;
+  const int n = 96, k = 40;
+  const SurfaceMesh cyl = rebuilt(cylinder(r, n, k));
+  MetricBounds b;
+  b.hmax = hmax;
+  const MetricField C = curvature_metric(cyl, cyl_hausd, b, ring_quadric_fit());
+  double worst_across = 0, worst_along = 0;
+  for (int j = 3; j < k - 3; ++j)
+    for (int i = 0; i < n; ++i) {
+      const Vertex v(j * n + i);
+      const Vec3 p = cyl.position(v);
+      const Vec3 across = normalized(Vec3(-p.y, p.x, 0));
+      worst_across = std::max(worst_across, std::fabs(1 / metric_length(C[v.idx], across) / std::sqrt(8 * cyl_hausd * r) - 1));
+      worst_along = std::max(worst_along, std::fabs(1 / metric_length(C[v.idx], Vec3(0, 0, 1)) / hmax - 1));
+    }
+  MESSAGE("ring quadric fits: sphere sizes within " << worst << ", cylinder across within " << worst_across
+                                                     << ", along within " << worst_along);
+  CHECK(worst < 0.01);
+  CHECK(worst_across < 0.005);
+  CHECK(worst_along < 1e-4);
+}
+
 TEST_CASE("hessian metric: f = 100 x^2 on the flat square gives diag(2/9 200/eps, hmax^-2, hmax^-2)") {
   const SurfaceMesh m = irregular_plane(11, Vec3(), Vec3(1, 0, 0), Vec3(0, 1, 0), 7);
   const Quadratic f{SymTensor3::diagonal(100, 0, 0), Vec3()};

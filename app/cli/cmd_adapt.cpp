@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <future>
+#include <optional>
 #include <iostream>
 
 #include <sys/ioctl.h>
@@ -343,6 +344,25 @@ MetricField metric_of_input(const AdaptCommandLine& c, SurfaceMesh& t0, const Bu
   return metric;
 }
 
+// The fields of a .sol read ahead (`ahead`, without the mesh's vertex
+// count) when they have one value per vertex of the mesh file; else the
+// file read again against that count, which throws its error with the line
+// (a file that failed ahead fails the same way, or in its count first).
+std::vector<FieldData> read_sol_for(const std::string& path, std::future<std::vector<FieldData>>& ahead,
+                                    int mesh_vertices) {
+  std::vector<FieldData> fields;
+  try {
+    fields = ahead.get();
+  } catch (const std::exception&) {
+    return read_sol(path, mesh_vertices);
+  }
+  bool counts_match = !fields.empty();
+  for (const FieldData& d : fields)
+    counts_match = counts_match && d.info.ncomp > 0 &&
+                   d.values.size() == static_cast<std::size_t>(mesh_vertices) * static_cast<std::size_t>(d.info.ncomp);
+  return counts_match ? fields : read_sol(path, mesh_vertices);
+}
+
 AdaptFiles read_adapt_inputs(AdaptCommandLine& c) {
   AdaptFiles f;
   BuildReport report;
@@ -350,18 +370,37 @@ AdaptFiles read_adapt_inputs(AdaptCommandLine& c) {
   // completed before it is read (never read half old, half new).
   for (const std::string& path : {c.in, c.metric.sol, c.interpolate})
     if (!path.empty()) finish_interrupted_commits(path);
+  // The metric's .sol is read on a second thread while the mesh is (its
+  // vertex count is checked once both are in).
+  std::future<std::vector<FieldData>> early_sol;
+  if (!c.metric.sol.empty() && available_threads() > 1)
+    early_sol = std::async(std::launch::async, [path = c.metric.sol] { return read_sol(path); });
   f.input.mesh = load_mesh(c.in, &report, c.build);
   f.input.vertex_origin = report.vertex_origin;
   if (c.metric_from_input) f.sol_metric = metric_of_input(c, f.input.mesh, report);
   if (!c.metric.sol.empty()) {
+    std::vector<FieldData> sol = early_sol.valid() ? read_sol_for(c.metric.sol, early_sol, report.input_vertices)
+                                                   : read_sol(c.metric.sol, report.input_vertices);
     // The metric is read into its own array; T_0 keeps no copy as a field.
-    SurfaceMesh with_fields = f.input.mesh;
-    attach_fields(with_fields, read_sol(c.metric.sol, report.input_vertices), report);
+    // It is attached to T_0 for the conversion and removed after, or to a
+    // copy of T_0 when T_0 has fields of the same names (from its own file).
+    bool names_taken = false;
+    for (const FieldData& d : sol) names_taken = names_taken || f.input.mesh.get_field(d.info.name);
+    std::optional<SurfaceMesh> copy;
+    if (names_taken) copy = f.input.mesh;
+    SurfaceMesh& with_fields = copy ? *copy : f.input.mesh;
+    attach_fields(with_fields, sol, report);
+    auto detach = [&] {
+      if (!copy)
+        for (const FieldData& d : sol) f.input.mesh.remove_field(d.info.name);
+    };
     try {
       f.sol_metric = metric_from_field(with_fields, {}, report.vertex_origin);
     } catch (const MetricError& e) {
+      detach();
       throw MetricError(c.metric.sol + ": " + e.what());
     }
+    detach();
   }
   // Section 6: a solution given on IN's vertices, interpolated onto the
   // adapted mesh from its location in T_0 (written to OUT.fields.sol).

@@ -141,7 +141,7 @@ MetricResult build_metric(const SurfaceMesh& mesh, MetricRecipe r, const std::ve
   MetricResult out;
   if (r.is_hessian()) out.hessian = recipe_hessian(mesh, r, origin);
   MetricField deviation;
-  if (r.hausd > 0 && r.source != MetricRecipe::Source::Curvature) deviation = curvature_metric(mesh, r.hausd, r.bounds);
+  if (r.hausd > 0 && r.source != MetricRecipe::Source::Curvature) deviation = curvature_metric(mesh, r.hausd, r.bounds, r.deviation_fit);
 
   const double target = r.vertices > 0 ? r.vertices : r.complexity > 0 ? predicted_vertex_count(r.complexity) : 0;
   double asked = target;  // the vertex count asked of the Hessian metric

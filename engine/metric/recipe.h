@@ -49,6 +49,12 @@ struct MetricRecipe {
   // Chordal deviation: the metric is intersected with the curvature metric
   // of `hausd` (> 0; with the Curvature source it is that metric's deviation).
   double hausd = 0;
+  // The curvatures of that intersection when the source is not Curvature: a
+  // bound on what another metric may ask, fitted as Mmg's -hausd fits them
+  // (a quadric over each vertex's ring, the neighbourhood grown where it
+  // does not determine one), where the Curvature source, whose sizes are
+  // the metric, fits cubics over two rings (HessianRecoveryOptions{}).
+  HessianRecoveryOptions deviation_fit = ring_quadric_fit();
   // Size gradation ratio (Mmg's -hgrad); <= 1: none.
   double hgrad = 1.3;
   GradationSpace hgrad_space = GradationSpace::Metric;
