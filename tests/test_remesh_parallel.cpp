@@ -179,6 +179,23 @@ TEST_CASE("region count: one round of regions for a small work, whole rounds bey
   }
 }
 
+TEST_CASE("region count: a coarsening takes more regions per thread than a refinement") {
+  for (double size : {0.05, 2.0}) {
+    CAPTURE(size);
+    auto s = make_setup(test::asset_file("demo.mesh"), size);
+    double work = 0;
+    for (Triangle t : s->adapted->mesh().triangles()) work += triangle_work(*s->adapted, t);
+    const double held = s->adapted->mesh().n_triangles();
+    const bool coarsening = work - held < 0.5 * held;
+    CHECK(coarsening == (size > 1.0));  // the demo's edges are about 0.3 long
+    ParallelOptions p;
+    p.threads = 2;
+    p.min_region_work = work / 100;
+    p.min_round_work = work / 100;  // work enough for as many regions as allowed
+    CHECK(region_count(*s->adapted, p) == 2 * (coarsening ? p.coarsening_regions_per_thread : p.regions_per_thread));
+  }
+}
+
 TEST_CASE("remesh: a required edge is neither split, collapsed nor swapped") {
   auto s = make_setup(test::asset_file("demo.mesh"), 0.05);
   SurfaceMesh& m = s->adapted->mesh();

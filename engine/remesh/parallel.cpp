@@ -117,8 +117,12 @@ int region_count(const AdaptedMesh& m, const ParallelOptions& p) {
   for (Triangle t : m.mesh().triangles()) work += triangle_work(m, t);
   const int one_round = std::clamp(static_cast<int>(work / std::max(p.min_region_work, 1.0)), 1, p.threads);
   if (one_round < p.threads) return one_round;
+  // triangle_work is 1 per triangle held plus the triangles it will hold.
+  const double input = m.mesh().n_triangles();
+  const bool coarsening = work - input < 0.5 * input;
+  const int per_thread = coarsening ? p.coarsening_regions_per_thread : p.regions_per_thread;
   const int n = std::clamp(static_cast<int>(work / std::max(p.min_round_work, 1.0)), p.threads,
-                           p.threads * std::max(p.regions_per_thread, 1));
+                           p.threads * std::max(per_thread, 1));
   // Beyond one round, whole rounds: a last region alone on one thread
   // leaves the others idle (3 regions on 2 threads take 2 rounds of a third
   // each, 2 regions 1 round of a half).

@@ -26,6 +26,13 @@ struct ParallelOptions {
   // predicted work of a region (its output) is not its time, which depends
   // on how far the metric is from the mesh.
   int regions_per_thread = 2;
+  // A coarsening (the predicted output under half the input's triangles)
+  // takes this many regions per thread instead: its work is the collapses,
+  // whose cost in a region depends on how many rounds the region takes to
+  // settle (a strongly anisotropic part of the metric takes more), which no
+  // estimate from the input sees; smaller regions let the threads even it
+  // out. A refinement keeps the fewer, larger regions (fewer borders).
+  int coarsening_regions_per_thread = 4;
   // Each region needs at least this much predicted work (triangle_work:
   // about the triangles it holds and will hold): a smaller mesh is remeshed
   // by fewer regions. One round (a region per thread) asks min_region_work
