@@ -221,7 +221,7 @@ void AdaptedMesh::pull_towards_input(Placement& p, const Location& on_geometry) 
   p.pulled = true;
 }
 
-// Per triangle of T_G, 4/3 of |e| theta / 8 over its edges (InputBound): theta the
+// Per triangle of T_G (in parallel chunks), 4/3 of |e| theta / 8 over its edges (InputBound): theta the
 // dihedral angle across an edge inside a smooth region, or on a feature
 // curve the angle the curve turns along the edge, |e| times its curvature
 // (the mean of its ends' discrete curvatures, turn / mean length of the two
@@ -247,7 +247,11 @@ void AdaptedMesh::measure_sagitta() {
     const double k = ka < 0 || kb < 0 ? std::max({ka, kb, 0.0}) : 0.5 * (ka + kb);
     return len * k;
   };
-  for (Triangle t : g.triangles()) {
+  const int nt_slots = g.triangle_capacity();
+  run_chunks(nt_slots, chunk_count(nt_slots, 16384), [&](int, int begin, int end) {
+  for (int i = begin; i < end; ++i) {
+    const Triangle t(i);
+    if (g.is_deleted(t)) continue;
     double worst = 0;
     const Vec3 nt = g.triangle_normal(t);
     for (int k = 0; k < 3; ++k) {
@@ -265,6 +269,7 @@ void AdaptedMesh::measure_sagitta() {
     }
     (*sagitta)[static_cast<std::size_t>(t.idx)] = static_cast<float>(4.0 / 3.0 * worst);
   }
+  });
   sagitta_ = std::move(sagitta);
 }
 
@@ -337,30 +342,44 @@ void AdaptedMesh::mark_rough_triangles() {
   const SurfaceMesh& g = geometry_.mesh();
   auto rough = std::make_shared<std::vector<std::uint8_t>>(static_cast<std::size_t>(g.triangle_capacity()), 0);
   constexpr double kFoldCosine = 0.5;  // 60 degrees
-  std::vector<Vec3> unit(static_cast<std::size_t>(g.triangle_capacity()));
-  for (Triangle t : g.triangles()) unit[static_cast<std::size_t>(t.idx)] = normalized(g.triangle_normal(t));
+  const int nt = g.triangle_capacity(), nv = g.vertex_capacity();
+  std::vector<Vec3> unit(static_cast<std::size_t>(nt));
+  run_chunks(nt, chunk_count(nt, 16384), [&](int, int begin, int end) {
+    for (int i = begin; i < end; ++i)
+      if (!g.is_deleted(Triangle(i))) unit[static_cast<std::size_t>(i)] = normalized(g.triangle_normal(Triangle(i)));
+  });
   // Vertex by vertex, each fan once: its triangles are all rough when v is
   // on a feature or has another sheet within a quarter of its edges (a thin
   // part, nearly touching sheets of a defective input: a point of T_1 near v
   // may be closest to that sheet); a triangle of the fan is rough when
-  // another triangle of the fan turns more than 60 degrees from it.
-  for (Vertex v : g.vertices()) {
-    if (g.is_isolated(v)) continue;
-    double longest = 0;
-    for (Vertex w : g.ring_vertices(v)) longest = std::max(longest, norm(g.position(w) - g.position(v)));
-    const bool rough_vertex = (g.vertex_tags(v) & (kRidge | kBoundary | kCorner | kRequired)) ||
-                              geometry_.clearance(v) < 0.25 * longest;
-    const FanCornerRange fan = g.fan_corners(v);
-    for (Corner a : fan) {
-      const auto ta = static_cast<std::size_t>(SurfaceMesh::triangle(a).idx);
-      if (rough_vertex) {
-        (*rough)[ta] = 1;
-        continue;
+  // another triangle of the fan turns more than 60 degrees from it. Marked
+  // per corner (each corner is in one fan: no two chunks write the same
+  // one), then a triangle is rough when one of its corners is.
+  std::vector<std::uint8_t> rough_corner(static_cast<std::size_t>(3) * static_cast<std::size_t>(nt), 0);
+  run_chunks(nv, chunk_count(nv, 8192), [&](int, int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      const Vertex v(i);
+      if (g.is_deleted(v) || g.is_isolated(v)) continue;
+      double longest = 0;
+      for (Vertex w : g.ring_vertices(v)) longest = std::max(longest, norm(g.position(w) - g.position(v)));
+      const bool rough_vertex = (g.vertex_tags(v) & (kRidge | kBoundary | kCorner | kRequired)) ||
+                                geometry_.clearance(v) < 0.25 * longest;
+      const FanCornerRange fan = g.fan_corners(v);
+      for (Corner a : fan) {
+        const auto ta = static_cast<std::size_t>(SurfaceMesh::triangle(a).idx);
+        bool r = rough_vertex;
+        for (Corner b : fan)
+          r = r || dot(unit[ta], unit[static_cast<std::size_t>(SurfaceMesh::triangle(b).idx)]) < kFoldCosine;
+        rough_corner[static_cast<std::size_t>(a.idx)] = r ? 1 : 0;
       }
-      for (Corner b : fan)
-        if (dot(unit[ta], unit[static_cast<std::size_t>(SurfaceMesh::triangle(b).idx)]) < kFoldCosine) (*rough)[ta] = 1;
     }
-  }
+  });
+  run_chunks(nt, chunk_count(nt, 16384), [&](int, int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      const auto c = static_cast<std::size_t>(3 * i);
+      (*rough)[static_cast<std::size_t>(i)] = rough_corner[c] | rough_corner[c + 1] | rough_corner[c + 2];
+    }
+  });
   rough_ = std::move(rough);
 }
 
