@@ -221,9 +221,9 @@ void AdaptedMesh::pull_towards_input(Placement& p, const Location& on_geometry) 
   p.pulled = true;
 }
 
-// Per triangle of T_G (in parallel chunks), 4/3 of |e| theta / 8 over its edges (InputBound): theta the
-// dihedral angle across an edge inside a smooth region, or on a feature
-// curve the angle the curve turns along the edge, |e| times its curvature
+// Per triangle of T_G (in parallel chunks), 4/3 of |e| theta / 8 over its
+// edges (InputBound): theta the dihedral angle across an edge inside a
+// smooth region, or on a feature curve the angle the curve turns along the edge, |e| times its curvature
 // (the mean of its ends' discrete curvatures, turn / mean length of the two
 // edges there: right for a circle sampled unevenly). A corner has no
 // curvature of its own (the curve may start in any direction): an edge with
@@ -249,26 +249,26 @@ void AdaptedMesh::measure_sagitta() {
   };
   const int nt_slots = g.triangle_capacity();
   run_chunks(nt_slots, chunk_count(nt_slots, 16384), [&](int, int begin, int end) {
-  for (int i = begin; i < end; ++i) {
-    const Triangle t(i);
-    if (g.is_deleted(t)) continue;
-    double worst = 0;
-    const Vec3 nt = g.triangle_normal(t);
-    for (int k = 0; k < 3; ++k) {
-      const Corner c = SurfaceMesh::corner(t, k);
-      const Vertex a = g.edge_from(c), b = g.edge_to(c);
-      const double len = norm(g.position(b) - g.position(a));
-      double theta = 0;
-      if (is_feature_edge(g, c)) {
-        theta = edge_turn(a, b, len);
-      } else {
-        const Vec3 no = g.triangle_normal(SurfaceMesh::triangle(g.opposite(c)));
-        theta = std::atan2(norm(cross(nt, no)), dot(nt, no));
+    for (int i = begin; i < end; ++i) {
+      const Triangle t(i);
+      if (g.is_deleted(t)) continue;
+      double worst = 0;
+      const Vec3 nt = g.triangle_normal(t);
+      for (int k = 0; k < 3; ++k) {
+        const Corner c = SurfaceMesh::corner(t, k);
+        const Vertex a = g.edge_from(c), b = g.edge_to(c);
+        const double len = norm(g.position(b) - g.position(a));
+        double theta = 0;
+        if (is_feature_edge(g, c)) {
+          theta = edge_turn(a, b, len);
+        } else {
+          const Vec3 no = g.triangle_normal(SurfaceMesh::triangle(g.opposite(c)));
+          theta = std::atan2(norm(cross(nt, no)), dot(nt, no));
+        }
+        worst = std::max(worst, len * theta / 8.0);
       }
-      worst = std::max(worst, len * theta / 8.0);
+      (*sagitta)[static_cast<std::size_t>(t.idx)] = static_cast<float>(4.0 / 3.0 * worst);
     }
-    (*sagitta)[static_cast<std::size_t>(t.idx)] = static_cast<float>(4.0 / 3.0 * worst);
-  }
   });
   sagitta_ = std::move(sagitta);
 }

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 #include <new>
-#include <queue>
 #include <stdexcept>
 
 #include "geometry/features.h"
