@@ -49,7 +49,8 @@ TEST_CASE("snapshots: the mesh of a snapshot goes without the remesher's working
   SurfaceMesh m;
   build_mesh(read_mesh_data(demo("mesh")), m);
   // The properties AdaptedMesh attaches (adapted_mesh.cpp), with their types.
-  m.add_vertex_property<SymTensor3>("remesh:metric", SymTensor3::identity());
+  m.add_vertex_property<SymTensor3>(remesh::kMetricProperty, SymTensor3::identity());
+  m.add_vertex_property<double>(remesh::kIsotropicMetricProperty, 1.0);
   m.add_vertex_property<std::array<float, 3>>("remesh:normal");
   m.add_vertex_property<std::uint8_t>(remesh::kPlacementProperty, 1);
   m.add_vertex_property<Hint>("remesh:hint_g");

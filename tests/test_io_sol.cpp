@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "io/mesh_io.h"
 #include "mesh/build.h"
+#include "metric/metric.h"
 #include "test_util.h"
 
 using namespace anisurf;
@@ -183,7 +184,7 @@ TEST_CASE("sol writers and dispatch refuse what they cannot write") {
                        doctest::Contains("field 'metric': tensor with 6 components, expected 3 in dimension 2"), IoError);
   CHECK_THROWS_WITH_AS(write_sol((dir / "x.solb").string(), f, 5, 3),
                        doctest::Contains("field 'size' has 4 values, expected 5 x 1 = 5"), IoError);
-  CHECK_THROWS_WITH_AS(write_sol((dir / "x.sol").string(), {}, 4, 3), doctest::Contains("no field"), IoError);
+  CHECK_THROWS_WITH_AS(write_sol((dir / "x.sol").string(), std::vector<FieldData>{}, 4, 3), doctest::Contains("no field"), IoError);
   f[0].values[2] = std::numeric_limits<double>::quiet_NaN();
   CHECK_THROWS_WITH_AS(write_sol((dir / "x.sol").string(), f, 4, 3),
                        doctest::Contains("field 'size': vertex 3 has a non-finite value"), IoError);
@@ -279,4 +280,27 @@ TEST_CASE("fields follow the build: attach_fields, extract_fields, save_mesh to 
   // A field sized for another mesh is refused.
   fields[0].values.pop_back();
   CHECK_THROWS_AS(attach_fields(mesh, fields, report), Error);
+}
+
+TEST_CASE("sol: a metric written from its tensors in place reads back bit-exact") {
+  const auto dir = test::temp_dir("sol_view");
+  std::vector<SymTensor3> metric;
+  for (std::size_t i = 0; i < 50; ++i)
+    metric.push_back(SymTensor3(1.0 + static_cast<double>(i), awkward(i), 2.0 / static_cast<double>(i + 1), 1.0 / 3.0,
+                                awkward(i + 3), 1e6 + static_cast<double>(i)));
+  const std::vector<FieldView> views = {FieldView{FieldInfo{"metric", FieldKind::Tensor, 6}, metric.front().m.data(),
+                                                  6 * metric.size()}};
+  for (const char* name : {"m.sol", "m.solb"}) {
+    const std::string path = (dir / name).string();
+    write_sol(path, views, static_cast<int>(metric.size()), 3);
+    const std::vector<FieldData> back = read_sol(path, static_cast<int>(metric.size()));
+    REQUIRE(back.size() == 1);
+    CHECK(back[0].info.kind == FieldKind::Tensor);
+    std::vector<double> flat;
+    for (const SymTensor3& M : metric) flat.insert(flat.end(), M.m.begin(), M.m.end());
+    CHECK(same_bits(back[0].values, flat));
+  }
+  // A view shorter than the vertex count is refused, naming the field.
+  const std::vector<FieldView> short_view = {FieldView{FieldInfo{"metric", FieldKind::Tensor, 6}, metric.front().m.data(), 6}};
+  CHECK_THROWS_WITH_AS(write_sol((dir / "s.sol").string(), short_view, 2, 3), doctest::Contains("metric"), IoError);
 }

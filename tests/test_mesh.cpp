@@ -568,3 +568,56 @@ TEST_CASE("ranges and circulators: live elements once, fans and rings as walked"
     }
   }
 }
+
+TEST_CASE("to_mesh_data of a mesh given away: the same data, the mesh left empty") {
+  SurfaceMesh m;
+  build_mesh(read_mesh_data(test::asset_file("demo.mesh")), m);
+  m.set_vertex_ref(Vertex(3), 7);
+  auto same = [](const MeshData& a, const MeshData& b) {
+    CHECK(a.vertices.size() == b.vertices.size());
+    CHECK(std::equal(a.vertices.begin(), a.vertices.end(), b.vertices.begin(), b.vertices.end(),
+                     [](const Vec3& p, const Vec3& q) { return p == q; }));
+    CHECK(a.vertex_refs == b.vertex_refs);
+    CHECK(a.triangles == b.triangles);
+    CHECK(a.triangle_refs == b.triangle_refs);
+    CHECK(a.edges == b.edges);
+    CHECK(a.ridges == b.ridges);
+    CHECK(a.corners == b.corners);
+  };
+  {
+    SurfaceMesh copy = m;
+    const MeshData expected = to_mesh_data(m);
+    const MeshData got = to_mesh_data(std::move(copy));
+    same(got, expected);
+    CHECK(copy.vertex_capacity() == 0);
+    CHECK(copy.triangle_capacity() == 0);
+  }
+  // With deleted slots the positions are copied in the file's numbering.
+  SurfaceMesh holes = m;
+  const Vertex v(5);
+  std::vector<Triangle> fan;
+  for (Corner c : holes.fan_corners(v)) fan.push_back(SurfaceMesh::triangle(c));
+  for (Triangle t : fan) holes.delete_triangle(t);
+  holes.delete_vertex(v);
+  REQUIRE(holes.n_vertices() < holes.vertex_capacity());
+  const MeshData expected = to_mesh_data(holes);
+  same(to_mesh_data(std::move(holes)), expected);
+  CHECK(holes.vertex_capacity() == 0);
+}
+
+TEST_CASE("shrink_to_fit: a compacted mesh keeps every element, tag and property") {
+  SurfaceMesh m;
+  build_mesh(read_mesh_data(test::asset_file("demo.mesh")), m);
+  auto p = m.add_vertex_property<double>("x", 0.0);
+  for (Vertex v : m.vertices()) p[v] = m.position(v).x;
+  const MeshData before = to_mesh_data(m);
+  m.reserve(4 * m.vertex_capacity(), 4 * m.triangle_capacity());
+  m.shrink_to_fit();
+  CHECK(m.validate().ok());
+  const MeshData after = to_mesh_data(m);
+  CHECK(after.triangles == before.triangles);
+  CHECK(after.edges == before.edges);
+  p = m.get_vertex_property<double>("x");
+  REQUIRE(p);
+  for (Vertex v : m.vertices()) CHECK(p[v] == m.position(v).x);
+}

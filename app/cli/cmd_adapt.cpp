@@ -443,16 +443,13 @@ MeshData mesh_with_fields(const SurfaceMesh& t1, std::vector<FieldData> metric, 
 
 // OUT.mesh, OUT.sol (the metric: Mmg reads it) and OUT.fields.sol
 // (--interpolate's fields), written as one set: all or none replaced; or,
-// for a format with fields inside, OUT alone.
-void write_adapt_outputs(const AdaptCommandLine& c, const remesh::AdaptResult& r,
+// for a format with fields inside, OUT alone. Consumes r's mesh and metric
+// (freed as soon as they are written: the output's peak memory).
+void write_adapt_outputs(const AdaptCommandLine& c, remesh::AdaptResult& r,
                          const std::vector<std::string>& interpolated_names, std::string* fields_path) {
   const SurfaceMesh& t1 = r.mesh;
+  const int n_vertices = t1.vertex_capacity();
   OutputSet outputs;
-  std::vector<FieldData> metric(1);  // one field, written without a copy of its values
-  FieldData& mf = metric.front();
-  mf.info = FieldInfo{"metric", FieldKind::Tensor, 6};
-  mf.values.reserve(6 * static_cast<std::size_t>(t1.vertex_capacity()));
-  for (int v = 0; v < t1.vertex_capacity(); ++v) mf.values.insert(mf.values.end(), r.metric[v].m.begin(), r.metric[v].m.end());
   std::vector<FieldData> interpolated;
   for (const FieldInfo& info : t1.fields()) {
     if (info.name.rfind(kInterpolatedPrefix, 0) != 0) continue;
@@ -460,18 +457,28 @@ void write_adapt_outputs(const AdaptCommandLine& c, const remesh::AdaptResult& r
     f.info = info;
     f.info.name = interpolated_names.at(std::stoul(info.name.substr(std::string(kInterpolatedPrefix).size())));
     const Property<FieldValue> prop = t1.get_field(info.name);
-    for (int v = 0; v < t1.vertex_capacity(); ++v)
+    for (int v = 0; v < n_vertices; ++v)
       f.values.insert(f.values.end(), prop[Vertex(v)].begin(), prop[Vertex(v)].begin() + info.ncomp);
     interpolated.push_back(std::move(f));
   }
   if (embeds_fields(c.out)) {
+    std::vector<FieldData> metric(1);
+    FieldData& mf = metric.front();
+    mf.info = FieldInfo{"metric", FieldKind::Tensor, 6};
+    mf.values.reserve(6 * static_cast<std::size_t>(n_vertices));
+    for (int v = 0; v < n_vertices; ++v) mf.values.insert(mf.values.end(), r.metric[v].m.begin(), r.metric[v].m.end());
     write_mesh_data(outputs.temporary(c.out), mesh_with_fields(t1, std::move(metric), std::move(interpolated)));
     outputs.commit();
     return;
   }
   // The mesh, its metric and the fields are independent files: formatted
   // and written at once, one thread each (the numbers' text is most of it),
-  // when --threads allows two.
+  // when --threads allows two. The metric is written from its tensors in
+  // place (six doubles each).
+  static_assert(sizeof(SymTensor3) == 6 * sizeof(double), "a MetricField is read as 6 doubles per vertex");
+  const std::vector<FieldView> metric = {
+      FieldView{FieldInfo{"metric", FieldKind::Tensor, 6}, r.metric.empty() ? nullptr : r.metric.front().m.data(),
+                6 * r.metric.size()}};
   const std::string mesh_tmp = outputs.temporary(c.out), sol_tmp = outputs.temporary(sol_path_for(c.out));
   std::string fields_tmp;
   if (!interpolated.empty()) {
@@ -479,11 +486,16 @@ void write_adapt_outputs(const AdaptCommandLine& c, const remesh::AdaptResult& r
     fields_tmp = outputs.temporary(*fields_path);
   }
   auto sol = std::async(available_threads() > 1 ? std::launch::async : std::launch::deferred, [&] {
-    write_sol(sol_tmp, metric, t1.vertex_capacity(), 3);
-    if (!fields_tmp.empty()) write_sol(fields_tmp, interpolated, t1.vertex_capacity(), 3);
+    write_sol(sol_tmp, metric, n_vertices, 3);
+    r.metric = MetricField();
+    if (!fields_tmp.empty()) write_sol(fields_tmp, interpolated, n_vertices, 3);
   });
   try {
-    save_mesh(mesh_tmp, t1);
+    // The mesh's fields are written apart (OUT.fields.sol): the data goes
+    // without them, and T_1's memory is freed before the text is formatted.
+    for (const FieldInfo& info : std::vector<FieldInfo>(r.mesh.fields())) r.mesh.remove_field(info.name);
+    const MeshData data = to_mesh_data(std::move(r.mesh));
+    write_mesh_data(mesh_tmp, data);
   } catch (...) {
     sol.wait();  // the temporaries are removed with the set, after the writer is done
     throw;
@@ -664,7 +676,7 @@ int run_adapt(const std::vector<std::string>& args) {
   };
   // The options go to the engine (a -sol metric is moved, not copied); the
   // summary needs only their cycle count.
-  const remesh::AdaptResult result = remesh::adapt(std::move(files.input), std::move(c.options), cb);
+  remesh::AdaptResult result = remesh::adapt(std::move(files.input), std::move(c.options), cb);
 
   std::string fields_path;
   write_adapt_outputs(c, result, files.interpolated_names, &fields_path);

@@ -47,8 +47,8 @@ struct Snapshot {
 // normals, location hints: AdaptedMesh rebuilds them from a snapshot's mesh);
 // a snapshot's mesh goes without them (68 bytes per vertex slot), keeping
 // the placements (remesh::kPlacementProperty) and the solution fields.
-inline constexpr const char* kRemesherWorkingProperties[] = {"remesh:metric", "remesh:normal", "remesh:hint_g",
-                                                              "remesh:hint_0"};
+inline constexpr const char* kRemesherWorkingProperties[] = {remesh::kMetricProperty, remesh::kIsotropicMetricProperty,
+                                                              "remesh:normal", "remesh:hint_g", "remesh:hint_0"};
 // A copy of the adapted mesh for a snapshot: without the working properties.
 SurfaceMesh snapshot_mesh(const SurfaceMesh& adapted);
 

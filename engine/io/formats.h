@@ -14,8 +14,8 @@ void write_medit_binary(const std::string& path, const MeshData& data);
 
 std::vector<FieldData> read_sol_ascii(const std::string& path, int n_vertices, int* dimension);
 std::vector<FieldData> read_sol_binary(const std::string& path, int n_vertices, int* dimension);
-void write_sol_ascii(const std::string& path, const std::vector<FieldData>& fields, int n_vertices, int dimension);
-void write_sol_binary(const std::string& path, const std::vector<FieldData>& fields, int n_vertices, int dimension);
+void write_sol_ascii(const std::string& path, const std::vector<FieldView>& fields, int n_vertices, int dimension);
+void write_sol_binary(const std::string& path, const std::vector<FieldView>& fields, int n_vertices, int dimension);
 
 MeshData read_obj(const std::string& path);
 void write_obj(const std::string& path, const MeshData& data);

@@ -110,6 +110,12 @@ std::vector<FieldData> read_sol(const std::string& path, int n_vertices, int* di
 }
 
 void write_sol(const std::string& path, const std::vector<FieldData>& fields, int n_vertices, int dimension) {
+  std::vector<FieldView> views;
+  for (const FieldData& f : fields) views.push_back(view_of(f));
+  write_sol(path, views, n_vertices, dimension);
+}
+
+void write_sol(const std::string& path, const std::vector<FieldView>& fields, int n_vertices, int dimension) {
   if (sol_format_from_path(path) == SolFormat::Ascii)
     io::write_sol_ascii(path, fields, n_vertices, dimension);
   else

@@ -48,6 +48,8 @@ void write_mesh_data(const std::string& path, const MeshData& data, const WriteO
 std::vector<FieldData> read_sol(const std::string& path, int n_vertices = -1, int* dimension = nullptr);
 // Writes fields (each values.size() == n_vertices * ncomp) as SolAtVertices.
 void write_sol(const std::string& path, const std::vector<FieldData>& fields, int n_vertices, int dimension = 3);
+// The same from views of the values (no copy: a metric field's tensors).
+void write_sol(const std::string& path, const std::vector<FieldView>& fields, int n_vertices, int dimension = 3);
 
 // Convenience: read + build_mesh (+ fields of an optional .sol mapped through
 // the build's vertex map).

@@ -377,7 +377,7 @@ class BinarySolReader {
 // --- writers ---------------------------------------------------------------------
 
 // Checks fields before writing; returns the GMF type of each.
-std::vector<int> check_fields(const std::string& path, const std::vector<FieldData>& fields, int n, int dim) {
+std::vector<int> check_fields(const std::string& path, const std::vector<FieldView>& fields, int n, int dim) {
   auto refuse = [&](const std::string& m) { throw IoError(path + ": cannot write: " + m); };
   if (dim != 2 && dim != 3) refuse("dimension " + std::to_string(dim) + ", expected 2 or 3");
   if (n < 0) refuse("negative vertex count " + std::to_string(n) + ", expected a count >= 0");
@@ -393,10 +393,10 @@ std::vector<int> check_fields(const std::string& path, const std::vector<FieldDa
       refuse("field '" + f.info.name + "': " + kind + " with " + std::to_string(f.info.ncomp) + " components, expected " +
              std::to_string(expected) + " in dimension " + std::to_string(dim));
     const std::size_t want = static_cast<std::size_t>(n) * static_cast<std::size_t>(expected);
-    if (f.values.size() != want)
-      refuse("field '" + f.info.name + "' has " + std::to_string(f.values.size()) + " values, expected " +
+    if (f.size != want || (want > 0 && f.values == nullptr))
+      refuse("field '" + f.info.name + "' has " + std::to_string(f.size) + " values, expected " +
              std::to_string(n) + " x " + std::to_string(expected) + " = " + std::to_string(want));
-    for (std::size_t i = 0; i < f.values.size(); ++i)
+    for (std::size_t i = 0; i < f.size; ++i)
       if (!std::isfinite(f.values[i]))
         refuse("field '" + f.info.name + "': vertex " + std::to_string(i / static_cast<std::size_t>(expected) + 1) +
                " has a non-finite value");
@@ -407,7 +407,7 @@ std::vector<int> check_fields(const std::string& path, const std::vector<FieldDa
 
 // The names comment, or "" when every name is the default one or a name
 // cannot be written as one token.
-std::string names_comment(const std::vector<FieldData>& fields) {
+std::string names_comment(const std::vector<FieldView>& fields) {
   bool custom = false;
   for (std::size_t k = 0; k < fields.size(); ++k) {
     const std::string& name = fields[k].info.name;
@@ -441,7 +441,7 @@ std::vector<FieldData> read_sol_binary(const std::string& path, int n_vertices, 
   return reader.run(dimension);
 }
 
-void write_sol_ascii(const std::string& path, const std::vector<FieldData>& fields, int n_vertices, int dimension) {
+void write_sol_ascii(const std::string& path, const std::vector<FieldView>& fields, int n_vertices, int dimension) {
   const std::vector<int> types = check_fields(path, fields, n_vertices, dimension);
   AtomicFile f(path);
   std::string buf;
@@ -475,7 +475,7 @@ void write_sol_ascii(const std::string& path, const std::vector<FieldData>& fiel
   f.commit();
 }
 
-void write_sol_binary(const std::string& path, const std::vector<FieldData>& fields, int n_vertices, int dimension) {
+void write_sol_binary(const std::string& path, const std::vector<FieldView>& fields, int n_vertices, int dimension) {
   const std::vector<int> types = check_fields(path, fields, n_vertices, dimension);
   std::size_t comps = 0;
   for (const auto& fd : fields) comps += static_cast<std::size_t>(fd.info.ncomp);

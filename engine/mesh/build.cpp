@@ -552,17 +552,25 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
   return rep;
 }
 
-MeshData to_mesh_data(const SurfaceMesh& mesh) {
+namespace {
+
+// to_mesh_data without the positions when `positions` is false.
+MeshData flatten(const SurfaceMesh& mesh, bool positions) {
   MeshData d;
   d.dimension = mesh.dimension();
   std::vector<int> vid(mesh.vertex_capacity(), -1);
+  if (positions) d.vertices.reserve(static_cast<std::size_t>(mesh.n_vertices()));
+  d.vertex_refs.reserve(static_cast<std::size_t>(mesh.n_vertices()));
+  d.triangles.reserve(static_cast<std::size_t>(mesh.n_triangles()));
+  d.triangle_refs.reserve(static_cast<std::size_t>(mesh.n_triangles()));
+  int id = 0;
   for (Vertex vh : mesh.vertices()) {
-    const int id = static_cast<int>(d.vertices.size());
     vid[vh.idx] = id;
-    d.vertices.push_back(mesh.position(vh));
+    if (positions) d.vertices.push_back(mesh.position(vh));
     d.vertex_refs.push_back(mesh.vertex_ref(vh));
     if (mesh.has_tag(vh, kCorner)) d.corners.push_back(id);
     if (mesh.has_tag(vh, kRequired)) d.required_vertices.push_back(id);
+    ++id;
   }
   for (Triangle th : mesh.triangles()) {
     if (mesh.has_tag(th, kRequired)) d.required_triangles.push_back(static_cast<int>(d.triangles.size()));
@@ -597,11 +605,25 @@ MeshData to_mesh_data(const SurfaceMesh& mesh) {
     auto prop = mesh.get_field(info.name);
     if (!prop) continue;
     FieldData f{info, {}};
-    f.values.reserve(d.vertices.size() * info.ncomp);
+    f.values.reserve(static_cast<std::size_t>(mesh.n_vertices()) * static_cast<std::size_t>(info.ncomp));
     for (Vertex v : mesh.vertices())
       for (int k = 0; k < info.ncomp; ++k) f.values.push_back(prop[v][k]);
     d.fields.push_back(std::move(f));
   }
+  return d;
+}
+
+}  // namespace
+
+MeshData to_mesh_data(const SurfaceMesh& mesh) { return flatten(mesh, true); }
+
+MeshData to_mesh_data(SurfaceMesh&& mesh) {
+  const bool slots_are_ids = mesh.n_vertices() == mesh.vertex_capacity();
+  MeshData d = flatten(mesh, !slots_are_ids);
+  if (slots_are_ids)
+    d.vertices = mesh.release_positions();
+  else
+    mesh = SurfaceMesh();
   return d;
 }
 

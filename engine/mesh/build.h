@@ -77,5 +77,9 @@ BuildReport build_mesh(const MeshData& data, SurfaceMesh& mesh, const BuildOptio
 // Flattens a mesh (compact numbering of live elements) back to file-level data:
 // every tagged or listed edge goes to Edges, tags to their sections.
 MeshData to_mesh_data(const SurfaceMesh& mesh);
+// The same, consuming the mesh: the positions move into the data when the
+// mesh has no deleted vertex (its slots are the file's numbering), and the
+// mesh is left empty, its memory freed, before the data is returned.
+MeshData to_mesh_data(SurfaceMesh&& mesh);
 
 }  // namespace anisurf

@@ -17,6 +17,15 @@ struct FieldData {
   std::vector<double> values;
 };
 
+// A per-vertex field read in place (a writer's input, no copy): `size`
+// doubles from `values`, n_vertices * info.ncomp of them.
+struct FieldView {
+  FieldInfo info;
+  const double* values = nullptr;
+  std::size_t size = 0;
+};
+inline FieldView view_of(const FieldData& f) { return {f.info, f.values.data(), f.values.size()}; }
+
 struct MeshData {
   int dimension = 3;  // 2 for planar Medit meshes (z = 0)
   int version = 2;    // Medit MeshVersionFormatted (1: float, 2: double)

@@ -20,6 +20,7 @@ class BasePropertyArray {
   virtual ~BasePropertyArray() = default;
   virtual void resize(std::size_t n) = 0;
   virtual void reserve(std::size_t n) = 0;
+  virtual void shrink_to_fit() = 0;
   virtual void reset(std::size_t i) = 0;  // back to the initial value
   // Keeps entries whose keep_map[i] >= 0, moved to keep_map[i]; new size n.
   virtual void compact(const std::vector<int>& keep_map, std::size_t n) = 0;
@@ -42,6 +43,7 @@ class PropertyArray final : public BasePropertyArray {
   PropertyArray(std::string name, T init) : BasePropertyArray(std::move(name)), init_(std::move(init)) {}
   void resize(std::size_t n) override { data_.resize(n, init_); }
   void reserve(std::size_t n) override { reserve_huge(data_, n); }
+  void shrink_to_fit() override { data_.shrink_to_fit(); }
   void reset(std::size_t i) override { data_[i] = init_; }
   // In place (keep_map is increasing: entries only move down), so no second
   // copy of the array is ever alive.
@@ -149,6 +151,9 @@ class PropertyContainer {
   }
   void reserve(std::size_t n) {
     for (auto& a : arrays_) a->reserve(n);
+  }
+  void shrink_to_fit() {
+    for (auto& a : arrays_) a->shrink_to_fit();
   }
   void push_back() { resize(size_ + 1); }
   void reset(std::size_t i) {

@@ -34,6 +34,7 @@ class RefArray {
     reserved_ = n;
     if (!values_.empty()) values_.reserve(n);
   }
+  void shrink_to_fit() { values_.shrink_to_fit(); }
   void clear() {
     size_ = 0;
     values_.clear();

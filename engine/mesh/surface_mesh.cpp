@@ -314,6 +314,29 @@ SurfaceMesh SurfaceMesh::empty_like() const {
   return m;
 }
 
+std::vector<Vec3> SurfaceMesh::release_positions() {
+  std::vector<Vec3> out = std::move(vpos_);
+  *this = SurfaceMesh();
+  return out;
+}
+
+void SurfaceMesh::shrink_to_fit() {
+  vpos_.shrink_to_fit();
+  vcorner_.shrink_to_fit();
+  vtag_.shrink_to_fit();
+  vref_.shrink_to_fit();
+  tv_.shrink_to_fit();
+  to_.shrink_to_fit();
+  etag_.shrink_to_fit();
+  eref_.shrink_to_fit();
+  ttag_.shrink_to_fit();
+  tref_.shrink_to_fit();
+  free_vertices_.shrink_to_fit();
+  free_triangles_.shrink_to_fit();
+  vprops_.shrink_to_fit();
+  tprops_.shrink_to_fit();
+}
+
 void SurfaceMesh::clear() {
   vpos_.clear();
   vcorner_.clear();

@@ -395,6 +395,13 @@ class SurfaceMesh {
   SurfaceMesh empty_like() const;
   void clear();
   void reserve(int n_vertices, int n_triangles);
+  // Moves the positions out (one per vertex slot) and leaves the mesh empty,
+  // its memory freed: for a conversion that consumes the mesh
+  // (to_mesh_data(SurfaceMesh&&)).
+  std::vector<Vec3> release_positions();
+  // Gives back the memory reserved beyond the slots in use, one array at a
+  // time (each copy is alive only while its array is).
+  void shrink_to_fit();
 
   // Checks every invariant: ids in range and live, no degenerate triangle,
   // opposite links symmetric with reversed endpoints (consistent orientation),

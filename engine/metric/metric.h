@@ -162,6 +162,14 @@ SymTensor2 compose(const std::array<double, 2>& values, double angle);
 
 // Isotropic metric h^-2 I (eq. 3). Pre: h > 0.
 inline SymTensor3 isotropic_metric(double h) { return SymTensor3::identity(1.0 / (h * h)); }
+// True when M is lambda I (eq. 3) to the relative tolerance `rel` of its
+// diagonal: off-diagonal terms and diagonal differences within rel x m11.
+inline bool is_isotropic(const SymTensor3& M, double rel = 1e-12) {
+  const auto& m = M.m;
+  const double tol = rel * std::abs(m[0]);
+  return std::abs(m[1]) <= tol && std::abs(m[3]) <= tol && std::abs(m[4]) <= tol && std::abs(m[2] - m[0]) <= tol &&
+         std::abs(m[5] - m[0]) <= tol;
+}
 // sum_i h_i^-2 d_i d_i^T for orthonormal directions d_i (eq. 1 in 3D): the
 // length of h_i d_i is 1. Directions are normalised here; pre: orthogonal, h_i > 0.
 SymTensor3 metric_from_sizes(const std::array<double, 3>& sizes, const std::array<Vec3, 3>& directions);

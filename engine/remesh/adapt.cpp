@@ -54,8 +54,13 @@ class StepTimer {
 // moved out of the mesh; the remesher's other per-vertex data (hints,
 // normals) go too: T_1 leaves with its positions, tags and fields.
 MetricField take_adapted_metric(SurfaceMesh& t1) {
-  Property<SymTensor3> p = t1.get_vertex_property<SymTensor3>("remesh:metric");
-  MetricField m = std::move(p.vector());
+  MetricField m;
+  if (const Property<double> iso = t1.get_vertex_property<double>(kIsotropicMetricProperty)) {
+    m.reserve(static_cast<std::size_t>(t1.vertex_capacity()));
+    for (double lambda : iso.vector()) m.push_back(SymTensor3::identity(lambda));
+  } else {
+    m = std::move(t1.get_vertex_property<SymTensor3>(kMetricProperty).vector());
+  }
   for (const std::string& name : t1.vertex_properties().names())
     if (name.rfind("remesh:", 0) == 0) t1.vertex_properties().remove(name);
   m.resize(static_cast<std::size_t>(t1.vertex_capacity()), SymTensor3::identity(1.0));

@@ -16,7 +16,8 @@ AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, Control
                          bool project_initial, const InputBound& bound)
     : mesh_(std::move(initial)), geometry_(geometry), control_(control), length_(length), bound_(bound) {
   auto& props = mesh_.vertex_properties();
-  for (const char* n : {"remesh:metric", "remesh:normal", "remesh:on_surface", "remesh:hint_g", "remesh:hint_0"})
+  for (const char* n : {kMetricProperty, kIsotropicMetricProperty, "remesh:normal", "remesh:on_surface", "remesh:hint_g",
+                        "remesh:hint_0"})
     props.remove(n);
   // Fields of the initial mesh that are not solution fields of T_0 (its
   // metric: T_1 keeps its own in remesh:metric) would follow every new
@@ -28,6 +29,7 @@ AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, Control
       stale.push_back(f.name);
   }
   for (const std::string& n : stale) mesh_.remove_field(n);
+  if (control_.is_isotropic()) mesh_.add_vertex_property<double>(kIsotropicMetricProperty, 1.0);
   bind_properties();
   mark_rough_triangles();
   measure_sagitta();
@@ -41,16 +43,25 @@ AdaptedMesh::AdaptedMesh(SurfaceMesh initial, GeometrySurface& geometry, Control
   const int nv = mesh_.vertex_capacity();
   std::vector<char> seen(static_cast<std::size_t>(nv), 0);
   if (!project_initial && control_.is_geometry()) {
-    run_chunks(nv, chunk_count(nv, 16384), [&](int, int begin, int end) {
-      for (int i = begin; i < end; ++i) {
-        const Vertex v(i);
-        if (mesh_.is_deleted(v) || mesh_.is_isolated(v)) continue;
-        std::optional<Placement> p = place_at_input_vertex(v, mesh_.position(v), kind(v));
-        if (!p) continue;
-        commit(v, *p);
-        seen[v.idx] = 2;
-      }
-    });
+    auto locate_input_vertices = [&] {
+      run_chunks(nv, chunk_count(nv, 16384), [&](int, int begin, int end) {
+        for (int i = begin; i < end; ++i) {
+          const Vertex v(i);
+          if (mesh_.is_deleted(v) || mesh_.is_isolated(v)) continue;
+          std::optional<Placement> p = place_at_input_vertex(v, mesh_.position(v), kind(v));
+          if (!p) continue;
+          commit(v, *p);
+          seen[v.idx] = 2;
+        }
+      });
+    };
+    committing_in_parallel_ = true;
+    locate_input_vertices();
+    committing_in_parallel_ = false;
+    if (lost_isotropy_) {
+      store_full_metric();
+      locate_input_vertices();
+    }
   }
   std::deque<Vertex> queue;
   for (Vertex seed : mesh_.vertices()) {
@@ -90,12 +101,53 @@ AdaptedMesh::AdaptedMesh(SurfaceMesh part, const AdaptedMesh& whole, GeometrySur
   bind_properties();
 }
 
+void widen_metric_property(SurfaceMesh& mesh) {
+  const Property<double> iso = mesh.get_vertex_property<double>(kIsotropicMetricProperty);
+  if (!iso) return;
+  Property<SymTensor3> full = mesh.vertex_property<SymTensor3>(kMetricProperty, SymTensor3::identity());
+  for (int i = 0; i < mesh.vertex_capacity(); ++i) full[Vertex(i)] = SymTensor3::identity(iso[Vertex(i)]);
+  mesh.vertex_properties().remove(kIsotropicMetricProperty);
+}
+
+void AdaptedMesh::store_full_metric() {
+  if (!iso_) return;
+  widen_metric_property(mesh_);
+  bind_properties();
+}
+
+void AdaptedMesh::set_metric(Vertex v, const SymTensor3& M) {
+  if (iso_) {
+    if (is_isotropic(M)) {
+      metric_iso_[v] = M.m[0];
+      return;
+    }
+    if (committing_in_parallel_) {
+      lost_isotropy_ = true;
+      return;
+    }
+    store_full_metric();
+  }
+  metric_[v] = M;
+}
+
+double AdaptedMesh::isotropic_length(Vertex a, Vertex b) const {
+  const Vec3 e = mesh_.position(b) - mesh_.position(a);
+  const double ee = dot(e, e), la = metric_iso_[a], lb = metric_iso_[b];
+  const double l0 = std::sqrt(la * ee);
+  if (la == lb) return l0;
+  const double l1 = std::sqrt(lb * ee);
+  return length_ == LengthFormula::LinearMetric ? length_linear_metric(l0, l1) : length_linear_size(l0, l1);
+}
+
 void AdaptedMesh::bind_properties() {
-  metric_ = mesh_.vertex_property<SymTensor3>("remesh:metric", SymTensor3::identity());
+  metric_iso_ = mesh_.get_vertex_property<double>(kIsotropicMetricProperty);
+  iso_ = static_cast<bool>(metric_iso_);
+  metric_ = iso_ ? Property<SymTensor3>() : mesh_.vertex_property<SymTensor3>(kMetricProperty, SymTensor3::identity());
   normal_ = mesh_.vertex_property<std::array<float, 3>>("remesh:normal");
   on_surface_ = mesh_.vertex_property<std::uint8_t>("remesh:on_surface", 1);
   hint_g_ = mesh_.vertex_property<Hint>("remesh:hint_g");
-  hint_0_ = mesh_.vertex_property<Hint>("remesh:hint_0");
+  // T_0 is T_G: a location on T_G is the location on T_0, its hint too.
+  hint_0_ = control_.same_as_geometry() ? Property<Hint>() : mesh_.vertex_property<Hint>("remesh:hint_0");
   solution_.clear();
   for (const FieldInfo& f : control_.field_infos()) {
     Property<FieldValue> p = mesh_.get_field(f.name);
@@ -135,7 +187,7 @@ Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, const std::vector<V
     if (n == hg.size()) break;
     if (!hint_g_[v].is_valid()) continue;
     hg[n] = hint_g_[v];
-    h0[n] = hint_0_[v];
+    h0[n] = hint_0(v);
     ++n;
   }
   // A fixed vertex is not moved: it is only located (as a free point).
@@ -278,8 +330,8 @@ void AdaptedMesh::refresh_values() {
     if (mesh_.is_isolated(v)) continue;
     // Located again (as a fixed point: the position does not change).
     const Placement p = place(mesh_.position(v), VertexKind::Fixed, {v});
-    metric_[v] = p.values.metric;
-    hint_0_[v] = p.hint_0;
+    set_metric(v, p.values.metric);
+    if (hint_0_) hint_0_[v] = p.hint_0;
     for (std::size_t f = 0; f < solution_.size() && f < p.values.fields.size(); ++f) solution_[f][v] = p.values.fields[f];
   }
 }
@@ -291,8 +343,8 @@ Placement AdaptedMesh::current(Vertex v) const {
   p.on_surface = on_surface_[v] != 0;
   p.pulled = on_surface_[v] == 2;
   p.hint_g = hint_g_[v];
-  p.hint_0 = hint_0_[v];
-  p.values.metric = metric_[v];
+  p.hint_0 = hint_0(v);
+  p.values.metric = metric(v);
   for (const auto& s : solution_) p.values.fields.push_back(s[v]);
   return p;
 }
@@ -302,8 +354,8 @@ void AdaptedMesh::commit(Vertex v, const Placement& p) {
   normal_[v] = {static_cast<float>(p.normal.x), static_cast<float>(p.normal.y), static_cast<float>(p.normal.z)};
   on_surface_[v] = !p.on_surface ? 0 : (p.pulled ? 2 : 1);
   hint_g_[v] = p.hint_g;
-  hint_0_[v] = p.hint_0;
-  metric_[v] = p.values.metric;
+  if (hint_0_) hint_0_[v] = p.hint_0;
+  set_metric(v, p.values.metric);
   for (std::size_t i = 0; i < solution_.size() && i < p.values.fields.size(); ++i) solution_[i][v] = p.values.fields[i];
 }
 
@@ -313,7 +365,7 @@ double AdaptedMesh::quality(const std::array<Vec3, 3>& p, const std::array<SymTe
 
 double AdaptedMesh::quality(Triangle t) const {
   const Vertex a = mesh_.vertex(t, 0), b = mesh_.vertex(t, 1), c = mesh_.vertex(t, 2);
-  return quality({mesh_.position(a), mesh_.position(b), mesh_.position(c)}, {metric_[a], metric_[b], metric_[c]});
+  return quality({mesh_.position(a), mesh_.position(b), mesh_.position(c)}, {metric(a), metric(b), metric(c)});
 }
 
 double AdaptedMesh::quality_in_one_metric(const std::array<Vec3, 3>& p, const std::array<SymTensor3, 3>& M) const {
@@ -323,7 +375,7 @@ double AdaptedMesh::quality_in_one_metric(const std::array<Vec3, 3>& p, const st
 double AdaptedMesh::quality_in_one_metric(Triangle t) const {
   const Vertex a = mesh_.vertex(t, 0), b = mesh_.vertex(t, 1), c = mesh_.vertex(t, 2);
   return quality_in_one_metric({mesh_.position(a), mesh_.position(b), mesh_.position(c)},
-                               {metric_[a], metric_[b], metric_[c]});
+                               {metric(a), metric(b), metric(c)});
 }
 
 int AdaptedMesh::count_inverted() {

@@ -9,6 +9,7 @@
 // created or moved it.
 #pragma once
 #include <array>
+#include <atomic>
 #include <initializer_list>
 #include <memory>
 #include <optional>
@@ -66,6 +67,13 @@ enum class VertexKind {
 // final pass's hausd split part of the way to T_G), 1 on the surface, 2 pulled
 // back towards T_G (InputBound). Copies of mesh() carry it.
 inline constexpr const char* kPlacementProperty = "remesh:on_surface";
+// The vertex properties of T_1's metric: full tensors, or the lambda of
+// lambda I where every metric is isotropic (AdaptedMesh::metric).
+inline constexpr const char* kMetricProperty = "remesh:metric";
+inline constexpr const char* kIsotropicMetricProperty = "remesh:metric_iso";
+// Turns a mesh's kIsotropicMetricProperty into kMetricProperty (full
+// tensors); nothing without it.
+void widen_metric_property(SurfaceMesh& mesh);
 
 class AdaptedMesh {
  public:
@@ -111,7 +119,15 @@ class AdaptedMesh {
   // control space changed its metric: Remark 6). Positions are kept.
   void refresh_values();
 
-  const SymTensor3& metric(Vertex v) const { return metric_[v]; }
+  // The metric of v (T_0's, interpolated where v lies: section 6). Where T_0's
+  // metric is isotropic (eq. 3) at every vertex (ControlSpace::
+  // is_isotropic), T_1 stores the lambda of lambda I (8 bytes a vertex
+  // instead of 48) and turns to full tensors at the first metric that is
+  // not (a relaxation stage, Remark 6).
+  SymTensor3 metric(Vertex v) const { return iso_ ? SymTensor3::identity(metric_iso_[v]) : metric_[v]; }
+  bool stores_isotropic_metric() const { return iso_; }
+  // From now on full tensors (kMetricProperty) hold the metric.
+  void store_full_metric();
   // Unit surface normal at v's location (zero on feature curves and corners).
   Vec3 surface_normal(Vertex v) const {
     const auto& n = normal_[v];
@@ -149,7 +165,6 @@ class AdaptedMesh {
   // triangle `t` where the metric is M (InputBound).
   double input_tolerance(Triangle t, const SymTensor3& M) const;
   const InputBound& input_bound() const { return bound_; }
-  const Property<SymTensor3>& metric_property() const { return metric_; }
   VertexKind kind(Vertex v) const;
   Constraint constraint(VertexKind k) const;
 
@@ -159,6 +174,7 @@ class AdaptedMesh {
     return edge_length(Ma, Mb, b - a, length_);
   }
   double length(Vertex a, Vertex b) const {
+    if (iso_) return isotropic_length(a, b);
     return length(mesh_.position(a), metric_[a], mesh_.position(b), metric_[b]);
   }
   // Quality c_K (eq. 17) with edge lengths from the vertex metrics.
@@ -196,10 +212,21 @@ class AdaptedMesh {
   GeometrySurface& geometry_;
   ControlSpace& control_;
   LengthFormula length_;
-  Property<SymTensor3> metric_;
+  Property<SymTensor3> metric_;   // full tensors (iso_ false)
+  Property<double> metric_iso_;   // lambda of lambda I (iso_ true)
+  bool iso_ = false;
+  // The constructor's parallel commits: a metric that is not isotropic is
+  // not stored but noted, and the commits run again with full tensors.
+  bool committing_in_parallel_ = false;
+  std::atomic<bool> lost_isotropy_{false};
+  void set_metric(Vertex v, const SymTensor3& M);
+  // edge_length for isotropic metrics: sqrt(lambda) |e| at each end.
+  double isotropic_length(Vertex a, Vertex b) const;
   Property<std::array<float, 3>> normal_;  // single precision: an angle reference, 12 bytes per vertex
   Property<std::uint8_t> on_surface_;  // 0 off the surface, 1 on it, 2 pulled towards T_G
-  Property<Hint> hint_g_, hint_0_;
+  Property<Hint> hint_g_;
+  Property<Hint> hint_0_;  // none when T_0 is T_G (the hint on T_G is the one)
+  Hint hint_0(Vertex v) const { return hint_0_ ? hint_0_[v] : hint_g_[v]; }
   std::vector<Property<FieldValue>> solution_;
   // Per triangle slot of T_G (shared with the regions cut for threads):
   std::shared_ptr<const std::vector<std::uint8_t>> rough_;  // near_feature()

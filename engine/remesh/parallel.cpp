@@ -36,8 +36,7 @@ std::vector<PassReport> remesh_region(AdaptedMesh& whole, Region& r, GeometrySur
                                       ControlSpace& control, const RemeshOptions& options, int index,
                                       const std::function<void(const PassReport&)>& progress) {
   AdaptedMesh part(std::move(r.mesh), whole, geometry, control);
-  Remesher remesher(part, options);
-  std::vector<PassReport> passes = remesher.run([&](const PassReport& p) {
+  std::vector<PassReport> passes = Remesher(part, options).run([&](const PassReport& p) {
     if (!progress) return;
     PassReport q = p;
     q.region = index;
@@ -46,17 +45,32 @@ std::vector<PassReport> remesh_region(AdaptedMesh& whole, Region& r, GeometrySur
   });
   tag_region(passes, index);
   r.mesh = std::move(part.mesh());
-  // A coarsened region would hold the capacity of its cut until it is
-  // pasted: compacted (live slots keep their order; the paste finds the
-  // whole's vertices by the origin property) into a tight copy.
-  if (2 * static_cast<long long>(r.mesh.n_vertices()) < r.mesh.vertex_capacity()) {
+  // The region waits for its paste holding the slots its collapses freed
+  // and the room reserved for its growth: compacted (live slots keep their
+  // order; the paste finds the whole's vertices by the origin property) and
+  // shrunk, one array at a time.
+  if (r.mesh.n_vertices() < r.mesh.vertex_capacity() || r.mesh.n_triangles() < r.mesh.triangle_capacity())
     r.mesh.compact();
-    r.mesh = SurfaceMesh(r.mesh);
-  }
+  r.mesh.shrink_to_fit();
   return passes;
 }
 
 bool over_limit(const std::vector<PassReport>& passes) { return !passes.empty() && passes.back().over_limit; }
+
+bool stores_isotropic_metric(const SurfaceMesh& mesh) {
+  return static_cast<bool>(mesh.get_vertex_property<double>(kIsotropicMetricProperty));
+}
+
+// The whole and the regions about to be pasted into it store the metric
+// alike (a paste copies the properties both have): full tensors for all
+// when one of them met a metric that is not isotropic.
+void agree_on_metric_storage(AdaptedMesh& whole, std::vector<Region>& regions) {
+  bool isotropic = whole.stores_isotropic_metric();
+  for (const Region& r : regions) isotropic = isotropic && stores_isotropic_metric(r.mesh);
+  if (isotropic) return;
+  whole.store_full_metric();
+  for (Region& r : regions) widen_metric_property(r.mesh);
+}
 
 // Splits the edges between two regions (or a region and the triangles left
 // out of all) longer than lmax, the longest first, until none is or none can
@@ -174,6 +188,7 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
       const double share = total > 0 ? work[i] / total : 1.0 / n;
       o.max_vertices = region_limit(options.max_vertices, share);
       o.max_round_vertices = region_limit(options.max_round_vertices, share);
+      o.reserve_share = share;
       passes[i] = remesh_region(m, regions[i], *geometry, *control, o, k, serial_progress);
     } catch (...) {
       errors[i] = std::current_exception();
@@ -203,6 +218,7 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     }
 
   // Pasted back in order; the band around the borders is remeshed again.
+  agree_on_metric_storage(m, regions);
   SurfaceMesh& mesh = m.mesh();
   int vertices = mesh.vertex_capacity(), triangles = mesh.triangle_capacity();
   for (const Region& r : regions) {
@@ -222,6 +238,7 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
   Region b = cut_region(mesh, band, 0);
   RemeshOptions o = options;
   o.relaxation_stages = 0;  // the band is adapted already but for its middle
+  o.reserve_share = static_cast<double>(b.mesh.n_triangles()) / std::max(mesh.n_triangles(), 1);
   // The final pass's swaps toward valence 6 may lower a triangle's quality
   // for the smoothing to raise it again, which the band's frozen border
   // prevents there; the regions made them.
@@ -231,6 +248,7 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     out.insert(out.end(), band_passes.begin(), band_passes.end());
     return out;
   }
+  if (m.stores_isotropic_metric() && !stores_isotropic_metric(b.mesh)) m.store_full_metric();
   paste_region(mesh, band, 0, b.mesh);
   out.insert(out.end(), band_passes.begin(), band_passes.end());
   return out;

@@ -150,6 +150,14 @@ MetricField ControlSpace::target_metric() const { return from_space(*target_, in
 
 double ControlSpace::target_complexity() const { return complexity_; }
 
+bool ControlSpace::is_isotropic() const {
+  const MetricField& X = in_use();
+  for (Vertex v : mesh_.vertices())
+    if (static_cast<std::size_t>(v.idx) < X.size() && !anisurf::is_isotropic(X[static_cast<std::size_t>(v.idx)]))
+      return false;
+  return true;
+}
+
 ControlSpace::ControlSpace(const ControlSpace& o)
     : mesh_(o.mesh_),
       interpolation_(o.interpolation_),

@@ -157,6 +157,11 @@ class ControlSpace {
   // region, asks for it).
   double target_complexity() const;
 
+  // True when the metric in use is isotropic (eq. 3) at every vertex of T_0,
+  // to 1e-12 (metric.h is_isotropic): so is then every metric interpolated
+  // from it (a weighted sum of multiples of I).
+  bool is_isotropic() const;
+
   // Remark 6: the metric in use becomes the log-Euclidean interpolation
   // exp((1 - t) log M_0 + t log M) between the metric M_0 the mesh T_0
   // already satisfies (isotropic, the mean length of the edges at each

@@ -201,7 +201,8 @@ void Remesher::reserve_for_metric() {
   // each of which briefly holds the old and the new buffer; capacity never
   // written is not resident, so the margin costs address space only.
   const ControlSpace& control = mesh_.control();
-  const double vertices = 1.5 * predicted_vertex_count(control.target_complexity());
+  const double vertices =
+      1.5 * std::clamp(options_.reserve_share, 0.0, 1.0) * predicted_vertex_count(control.target_complexity());
   SurfaceMesh& m = mesh_.mesh();
   constexpr double kMaxVertices = 25e6;  // a bound on the reservation, not on the mesh
   if (!(vertices > m.vertex_capacity())) return;

@@ -107,6 +107,11 @@ struct RemeshOptions {
   // AdaptOptions::max_growth (set_growth_limits).
   int max_round_vertices = 0;
   int max_vertices = 0;
+  // The share of the mesh the metric predicts that this mesh is: the
+  // arrays are reserved for that share (a region of run_in_regions holds
+  // part of the output; a reservation many times its size would put each
+  // of its small arrays on huge pages of 2 MB).
+  double reserve_share = 1.0;
   // The output's distance to the input: at the end of the final pass, the
   // edges whose midpoint and the triangles whose centroid lie farther from
   // T_G (the points bench/surfdist measures) than distance_bound (absolute:
