@@ -9,6 +9,7 @@
 #include <ranges>
 
 #include "core/error.h"
+#include "core/packed_normal.h"
 #include "io/mesh_io.h"
 #include "mesh/build.h"
 #include "mesh/operators.h"
@@ -620,4 +621,20 @@ TEST_CASE("shrink_to_fit: a compacted mesh keeps every element, tag and property
   p = m.get_vertex_property<double>("x");
   REQUIRE(p);
   for (Vertex v : m.vertices()) CHECK(p[v] == m.position(v).x);
+}
+
+TEST_CASE("packed normals: within 1e-4 radian of the unit vector packed, the zero vector kept") {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g(0.0, 1.0);
+  double worst = 0;
+  std::vector<Vec3> dirs = {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)};
+  for (int i = 0; i < 200000; ++i) dirs.push_back(normalized(Vec3(g(rng), g(rng), g(rng))));
+  for (const Vec3& n : dirs) {
+    const Vec3 back = unpack_normal(pack_normal(n));
+    CHECK(std::abs(norm(back) - 1) < 1e-12);
+    worst = std::max(worst, std::atan2(norm(cross(n, back)), dot(n, back)));
+  }
+  CHECK(worst < 1e-4);
+  CHECK(norm(unpack_normal(pack_normal(Vec3()))) == 0);
+  CHECK(norm(unpack_normal(PackedNormal{})) == 0);
 }

@@ -558,31 +558,36 @@ namespace {
 MeshData flatten(const SurfaceMesh& mesh, bool positions) {
   MeshData d;
   d.dimension = mesh.dimension();
-  std::vector<int> vid(mesh.vertex_capacity(), -1);
+  // Slot -> file id; none needed when every slot holds a vertex.
+  const bool slots_are_ids = mesh.n_vertices() == mesh.vertex_capacity();
+  std::vector<int> vid(slots_are_ids ? 0 : static_cast<std::size_t>(mesh.vertex_capacity()), -1);
+  auto id_of = [&](Vertex v) { return slots_are_ids ? v.idx : vid[static_cast<std::size_t>(v.idx)]; };
+  // References only when some are not 0 (MeshData: empty or one each).
+  const bool vrefs = mesh.has_vertex_refs(), trefs = mesh.has_triangle_refs();
   if (positions) d.vertices.reserve(static_cast<std::size_t>(mesh.n_vertices()));
-  d.vertex_refs.reserve(static_cast<std::size_t>(mesh.n_vertices()));
+  if (vrefs) d.vertex_refs.reserve(static_cast<std::size_t>(mesh.n_vertices()));
   d.triangles.reserve(static_cast<std::size_t>(mesh.n_triangles()));
-  d.triangle_refs.reserve(static_cast<std::size_t>(mesh.n_triangles()));
+  if (trefs) d.triangle_refs.reserve(static_cast<std::size_t>(mesh.n_triangles()));
   int id = 0;
   for (Vertex vh : mesh.vertices()) {
-    vid[vh.idx] = id;
+    if (!slots_are_ids) vid[static_cast<std::size_t>(vh.idx)] = id;
     if (positions) d.vertices.push_back(mesh.position(vh));
-    d.vertex_refs.push_back(mesh.vertex_ref(vh));
+    if (vrefs) d.vertex_refs.push_back(mesh.vertex_ref(vh));
     if (mesh.has_tag(vh, kCorner)) d.corners.push_back(id);
     if (mesh.has_tag(vh, kRequired)) d.required_vertices.push_back(id);
     ++id;
   }
   for (Triangle th : mesh.triangles()) {
     if (mesh.has_tag(th, kRequired)) d.required_triangles.push_back(static_cast<int>(d.triangles.size()));
-    d.triangles.push_back({vid[mesh.vertex(th, 0).idx], vid[mesh.vertex(th, 1).idx], vid[mesh.vertex(th, 2).idx]});
-    d.triangle_refs.push_back(mesh.triangle_ref(th));
+    d.triangles.push_back({id_of(mesh.vertex(th, 0)), id_of(mesh.vertex(th, 1)), id_of(mesh.vertex(th, 2))});
+    if (trefs) d.triangle_refs.push_back(mesh.triangle_ref(th));
     for (int k = 0; k < 3; ++k) {
       Corner c = SurfaceMesh::corner(th, k);
       if (mesh.canonical(c) != c) continue;
       std::uint8_t tg = mesh.edge_tags(c);
       if (!(tg & (kListed | kRidge | kRequired)) && mesh.edge_ref(c) == 0) continue;
       int e = static_cast<int>(d.edges.size());
-      d.edges.push_back({vid[mesh.edge_from(c).idx], vid[mesh.edge_to(c).idx]});
+      d.edges.push_back({id_of(mesh.edge_from(c)), id_of(mesh.edge_to(c))});
       d.edge_refs.push_back(mesh.edge_ref(c));
       if (tg & kRidge) d.ridges.push_back(e);
       if (tg & kRequired) d.required_edges.push_back(e);
@@ -595,7 +600,7 @@ MeshData flatten(const SurfaceMesh& mesh, bool positions) {
     if (!prop || !has) return;
     for (Vertex v : mesh.vertices())
       if (has[v]) {
-        at.push_back({vid[v.idx], static_cast<int>(vecs.size())});
+        at.push_back({id_of(v), static_cast<int>(vecs.size())});
         vecs.push_back(prop[v]);
       }
   };

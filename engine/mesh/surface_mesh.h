@@ -348,6 +348,9 @@ class SurfaceMesh {
   void remove_vertex_tag(Vertex v, Tag t) { vtag_[v.idx] &= static_cast<std::uint8_t>(~t); }
   bool has_tag(Vertex v, Tag t) const { return (vtag_[v.idx] & t) != 0; }
   int vertex_ref(Vertex v) const { return vref_[v.idx]; }
+  // False while every vertex (triangle) reference is 0 (none stored).
+  bool has_vertex_refs() const { return vref_.stored(); }
+  bool has_triangle_refs() const { return tref_.stored(); }
   void set_vertex_ref(Vertex v, int r) { vref_.set(static_cast<std::size_t>(v.idx), r); }
 
   std::uint8_t edge_tags(Corner c) const { return etag_[c.idx]; }

@@ -54,6 +54,11 @@ class StepTimer {
 // moved out of the mesh; the remesher's other per-vertex data (hints,
 // normals) go too: T_1 leaves with its positions, tags and fields.
 MetricField take_adapted_metric(SurfaceMesh& t1) {
+  // The other working properties go first: the field is built beside the
+  // mesh at its smallest.
+  for (const std::string& name : t1.vertex_properties().names())
+    if (name.rfind("remesh:", 0) == 0 && name != kMetricProperty && name != kIsotropicMetricProperty)
+      t1.vertex_properties().remove(name);
   MetricField m;
   if (const Property<double> iso = t1.get_vertex_property<double>(kIsotropicMetricProperty)) {
     m.reserve(static_cast<std::size_t>(t1.vertex_capacity()));

@@ -143,7 +143,7 @@ void AdaptedMesh::bind_properties() {
   metric_iso_ = mesh_.get_vertex_property<double>(kIsotropicMetricProperty);
   iso_ = static_cast<bool>(metric_iso_);
   metric_ = iso_ ? Property<SymTensor3>() : mesh_.vertex_property<SymTensor3>(kMetricProperty, SymTensor3::identity());
-  normal_ = mesh_.vertex_property<std::array<float, 3>>("remesh:normal");
+  normal_ = mesh_.vertex_property<PackedNormal>("remesh:normal");
   on_surface_ = mesh_.vertex_property<std::uint8_t>("remesh:on_surface", 1);
   hint_g_ = mesh_.vertex_property<Hint>("remesh:hint_g");
   // T_0 is T_G: a location on T_G is the location on T_0, its hint too.
@@ -351,7 +351,7 @@ Placement AdaptedMesh::current(Vertex v) const {
 
 void AdaptedMesh::commit(Vertex v, const Placement& p) {
   mesh_.position(v) = p.position;
-  normal_[v] = {static_cast<float>(p.normal.x), static_cast<float>(p.normal.y), static_cast<float>(p.normal.z)};
+  normal_[v] = pack_normal(p.normal);
   on_surface_[v] = !p.on_surface ? 0 : (p.pulled ? 2 : 1);
   hint_g_[v] = p.hint_g;
   if (hint_0_) hint_0_[v] = p.hint_0;

@@ -15,6 +15,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/packed_normal.h"
 #include "remesh/reference.h"
 
 namespace anisurf::remesh {
@@ -130,8 +131,7 @@ class AdaptedMesh {
   void store_full_metric();
   // Unit surface normal at v's location (zero on feature curves and corners).
   Vec3 surface_normal(Vertex v) const {
-    const auto& n = normal_[v];
-    return {n[0], n[1], n[2]};
+    return unpack_normal(normal_[v]);
   }
   // The hint of v's location on T_G.
   const Hint& hint_g(Vertex v) const { return hint_g_[v]; }
@@ -222,7 +222,7 @@ class AdaptedMesh {
   void set_metric(Vertex v, const SymTensor3& M);
   // edge_length for isotropic metrics: sqrt(lambda) |e| at each end.
   double isotropic_length(Vertex a, Vertex b) const;
-  Property<std::array<float, 3>> normal_;  // single precision: an angle reference, 12 bytes per vertex
+  Property<PackedNormal> normal_;  // an angle reference: 4 bytes a vertex (within 1e-4 radian)
   Property<std::uint8_t> on_surface_;  // 0 off the surface, 1 on it, 2 pulled towards T_G
   Property<Hint> hint_g_;
   Property<Hint> hint_0_;  // none when T_0 is T_G (the hint on T_G is the one)

@@ -189,10 +189,7 @@ std::string_view pass_name(PassKind k) {
   return "?";
 }
 
-Remesher::Remesher(AdaptedMesh& mesh, const RemeshOptions& options) : mesh_(mesh), options_(options) {
-  reserve_for_metric();
-  mark_all();
-}
+Remesher::Remesher(AdaptedMesh& mesh, const RemeshOptions& options) : mesh_(mesh), options_(options) { mark_all(); }
 
 void Remesher::reserve_for_metric() {
   // The adapted mesh has about 2 C / sqrt(3) vertices (C the metric area of
@@ -230,15 +227,14 @@ bool Remesher::edge_sags(Corner c) {
   const std::size_t slot = static_cast<std::size_t>(o.is_valid() && o.idx < c.idx ? o.idx : c.idx);
   auto marked_at = [&](Vertex v) {
     const std::size_t i = static_cast<std::size_t>(v.idx);
-    return i < marked_at_.size() ? marked_at_[i] : std::uint64_t{0};
+    return i < marked_at_.size() ? marked_at_[i] : std::uint32_t{0};
   };
   if (slot < flat_at_.size() && flat_at_[slot] != 0) {
     const std::uint64_t found = flat_at_[slot] - 1;
     if (marked_at(a) <= found && marked_at(b) <= found) return false;
   }
   const bool sags = edge_sags_off_input(mesh_, a, b, is_feature_edge(mesh, c), options_.op);
-  // The memo's stamps are 32-bit: past 2^32 - 1 marks it is not filled any more.
-  if (!sags && options_.sag_memo && marks_ < std::numeric_limits<std::uint32_t>::max()) {
+  if (!sags && options_.sag_memo) {
     if (slot >= flat_at_.size())
       flat_at_.resize(std::max<std::size_t>(slot + 1, 3 * static_cast<std::size_t>(mesh.triangle_capacity())), 0);
     flat_at_[slot] = static_cast<std::uint32_t>(marks_ + 1);
@@ -274,6 +270,12 @@ void Remesher::stamp(Vertex v) {
   const std::size_t i = static_cast<std::size_t>(v.idx);
   if (i >= marked_at_.size())
     marked_at_.resize(std::max<std::size_t>(i + 1, static_cast<std::size_t>(mesh_.mesh().vertex_capacity())), 0);
+  // The stamps are 32-bit: before they wrap, the memo starts again empty.
+  if (marks_ == std::numeric_limits<std::uint32_t>::max() - 1) {
+    marks_ = 0;
+    std::fill(marked_at_.begin(), marked_at_.end(), 0);
+    std::fill(flat_at_.begin(), flat_at_.end(), 0);
+  }
   marked_at_[i] = ++marks_;
 }
 
@@ -811,6 +813,11 @@ PassReport Remesher::step(PassKind kind) {
 
 PassReport Remesher::step(PassKind kind, const PassReport* previous, bool measure) {
   const auto t0 = Clock::now();
+  // At the first pass: a remesher made to measure the mesh changes nothing.
+  if (!reserved_) {
+    reserve_for_metric();
+    reserved_ = true;
+  }
   PassReport r;
   r.kind = kind;
   r.round = schedule_.round;

@@ -342,6 +342,7 @@ class Remesher {
   bool edge_sags(Corner c);
   // Reserves the mesh arrays for the size the target metric asks for.
   void reserve_for_metric();
+  bool reserved_ = false;
 
   AdaptedMesh& mesh_;
   RemeshOptions options_;
@@ -356,8 +357,8 @@ class Remesher {
   long long interrupt_polls_ = 0;
   std::vector<EdgeItem> heap_;  // split / collapse passes: the heap's storage
   std::vector<std::uint8_t> touched_mark_;  // per vertex slot: in the pass's touched list
-  std::uint64_t marks_ = 0;                 // marks so far
-  std::vector<std::uint64_t> marked_at_;    // per vertex slot: marks_ at its last mark
+  std::uint32_t marks_ = 0;                 // marks so far (since the memo last started again)
+  std::vector<std::uint32_t> marked_at_;    // per vertex slot: marks_ at its last mark
   // Per corner slot: 1 + marks_ when the edge it names was found not to sag, 0: none.
   std::vector<std::uint32_t> flat_at_;
 };
