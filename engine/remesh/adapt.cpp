@@ -60,14 +60,15 @@ MetricField take_adapted_metric(SurfaceMesh& t1) {
     if (name.rfind("remesh:", 0) == 0 && name != kMetricProperty && name != kIsotropicMetricProperty)
       t1.vertex_properties().remove(name);
   MetricField m;
-  if (const Property<double> iso = t1.get_vertex_property<double>(kIsotropicMetricProperty)) {
+  if (stores_isotropic_metric(t1)) {
     m.reserve(static_cast<std::size_t>(t1.vertex_capacity()));
-    for (double lambda : iso.vector()) m.push_back(SymTensor3::identity(lambda));
+    for (double lambda : t1.get_vertex_property<double>(kIsotropicMetricProperty).vector())
+      m.push_back(SymTensor3::identity(lambda));
   } else {
     m = std::move(t1.get_vertex_property<SymTensor3>(kMetricProperty).vector());
   }
-  for (const std::string& name : t1.vertex_properties().names())
-    if (name.rfind("remesh:", 0) == 0) t1.vertex_properties().remove(name);
+  t1.vertex_properties().remove(kIsotropicMetricProperty);
+  t1.vertex_properties().remove(kMetricProperty);
   m.resize(static_cast<std::size_t>(t1.vertex_capacity()), SymTensor3::identity(1.0));
   return m;
 }

@@ -101,6 +101,10 @@ AdaptedMesh::AdaptedMesh(SurfaceMesh part, const AdaptedMesh& whole, GeometrySur
   bind_properties();
 }
 
+bool stores_isotropic_metric(const SurfaceMesh& mesh) {
+  return static_cast<bool>(mesh.get_vertex_property<double>(kIsotropicMetricProperty));
+}
+
 void widen_metric_property(SurfaceMesh& mesh) {
   const Property<double> iso = mesh.get_vertex_property<double>(kIsotropicMetricProperty);
   if (!iso) return;

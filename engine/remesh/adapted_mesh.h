@@ -72,6 +72,8 @@ inline constexpr const char* kPlacementProperty = "remesh:on_surface";
 // lambda I where every metric is isotropic (AdaptedMesh::metric).
 inline constexpr const char* kMetricProperty = "remesh:metric";
 inline constexpr const char* kIsotropicMetricProperty = "remesh:metric_iso";
+// True when the mesh's metric is stored as kIsotropicMetricProperty.
+bool stores_isotropic_metric(const SurfaceMesh& mesh);
 // Turns a mesh's kIsotropicMetricProperty into kMetricProperty (full
 // tensors); nothing without it.
 void widen_metric_property(SurfaceMesh& mesh);

@@ -6,6 +6,7 @@
 #include <exception>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <thread>
 
 #include "remesh/operators.h"
@@ -57,14 +58,10 @@ std::vector<PassReport> remesh_region(AdaptedMesh& whole, Region& r, GeometrySur
 
 bool over_limit(const std::vector<PassReport>& passes) { return !passes.empty() && passes.back().over_limit; }
 
-bool stores_isotropic_metric(const SurfaceMesh& mesh) {
-  return static_cast<bool>(mesh.get_vertex_property<double>(kIsotropicMetricProperty));
-}
-
 // The whole and the regions about to be pasted into it store the metric
 // alike (a paste copies the properties both have): full tensors for all
 // when one of them met a metric that is not isotropic.
-void agree_on_metric_storage(AdaptedMesh& whole, std::vector<Region>& regions) {
+void agree_on_metric_storage(AdaptedMesh& whole, std::span<Region> regions) {
   bool isotropic = whole.stores_isotropic_metric();
   for (const Region& r : regions) isotropic = isotropic && stores_isotropic_metric(r.mesh);
   if (isotropic) return;
@@ -248,7 +245,7 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     out.insert(out.end(), band_passes.begin(), band_passes.end());
     return out;
   }
-  if (m.stores_isotropic_metric() && !stores_isotropic_metric(b.mesh)) m.store_full_metric();
+  agree_on_metric_storage(m, std::span<Region>(&b, 1));
   paste_region(mesh, band, 0, b.mesh);
   out.insert(out.end(), band_passes.begin(), band_passes.end());
   return out;
