@@ -515,6 +515,18 @@ bool joins_frozen(const SurfaceMesh& mesh, Vertex r, Vertex k) {
   return false;
 }
 
+// The worst eq. 17 quality of the triangles around r or k.
+double worst_fan_quality(const AdaptedMesh& m, Vertex r, Vertex k) {
+  const SurfaceMesh& mesh = m.mesh();
+  double q = 1;
+  for (Corner x : mesh.fan_corners(r)) q = std::min(q, m.quality(M::triangle(x)));
+  for (Corner x : mesh.fan_corners(k)) {
+    const Triangle t = M::triangle(x);
+    if (!mesh.corner_of(t, r).is_valid()) q = std::min(q, m.quality(t));
+  }
+  return q;
+}
+
 Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Placement& p, bool moves,
                          VertexKind kind_r, VertexKind kind_k, const OperatorOptions& o,
                          bool topology_checked = false) {
@@ -527,7 +539,7 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
   }
   // New triangles: the fans of r and k without the triangles of the edge.
   const Limits lim(o);
-  double q_old = 1, q_new = 1;
+  double q_new = 1;
   bool any = false;
   // The new triangles, for check_surface_side after the cheaper filters.
   std::vector<TriangleView> new_triangles;
@@ -536,7 +548,6 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
       const Triangle t = M::triangle(x);
       const bool has_r = mesh.corner_of(t, r).is_valid(), has_k = mesh.corner_of(t, k).is_valid();
       if (w == k && has_r) continue;  // counted once from r's fan
-      q_old = std::min(q_old, m.quality(t));
       if (has_r && has_k) continue;  // removed
       if (w == k && !moves) continue;  // unchanged
       const TriangleView tv = view(m, t, r, k, p);
@@ -557,7 +568,9 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
       if (m.length(p.position, p.values.metric, mesh.position(n), m.metric(n)) > o.lmax) return Rejection::Length;
     }
   }
-  if (q_new < std::min(q_old, o.collapse_quality)) return Rejection::Quality;
+  // Worse than collapse_quality and than the worst triangle of the two fans
+  // before (measured only then: most collapses clear the threshold).
+  if (q_new < o.collapse_quality && q_new < worst_fan_quality(m, r, k)) return Rejection::Quality;
   // New edges across the surface stay on it (feature edges: the curve test).
   for (Vertex n : mesh.ring_vertices(r)) {
     if (n == k) continue;

@@ -316,26 +316,31 @@ int Remesher::local_swaps(Vertex v, PassReport& r) {
   if (!options_.local_swaps) return 0;
   SurfaceMesh& mesh = mesh_.mesh();
   int n = 0;
-  // Each improving swap replaces a link edge by a spoke of v: the loop ends
-  // within the valence.
-  for (int visit = 0; visit < options_.max_local_swap_visits; ++visit) {
-    bool changed = false;
-    for (const auto& e : link_edges(mesh, v)) {
-      const Corner c = find_edge_corner(mesh, Vertex(e[0]), Vertex(e[1]));
-      if (!c.is_valid()) continue;
-      const SwapPlan plan = can_swap(mesh_, c, options_.op);
-      if (plan.why != Rejection::None) continue;
-      const Corner d = swap(mesh_, c);
-      // The two triangles rewritten: the sag memo of their slots is stale.
-      for (Corner x : {d, mesh.opposite(d)}) {
-        stamp(mesh.vertex(x));
-        stamp(mesh.edge_from(x));
-      }
-      ++n;
-      ++r.swaps;
-      changed = true;
+  // Each improving swap replaces a link edge by a spoke of v and brings two
+  // new link edges (the only ones whose triangles changed): a queue of the
+  // link edges to try, each swap adding its two, at most
+  // max_local_swap_visits swaps per link edge v started with.
+  std::vector<std::array<int, 2>> queue = link_edges(mesh, v);
+  const std::size_t max_swaps = static_cast<std::size_t>(std::max(0, options_.max_local_swap_visits)) * queue.size();
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const auto e = queue[head];
+    const Corner c = find_edge_corner(mesh, Vertex(e[0]), Vertex(e[1]));
+    if (!c.is_valid()) continue;
+    const SwapPlan plan = can_swap(mesh_, c, options_.op);
+    if (plan.why != Rejection::None) continue;
+    const Corner d = swap(mesh_, c);
+    // The two triangles rewritten: the sag memo of their slots is stale.
+    for (Corner x : {d, mesh.opposite(d)}) {
+      stamp(mesh.vertex(x));
+      stamp(mesh.edge_from(x));
     }
-    if (!changed) break;
+    ++n;
+    ++r.swaps;
+    if (static_cast<std::size_t>(n) >= max_swaps) break;
+    for (Corner x : {d, mesh.opposite(d)}) {
+      const Corner cv = mesh.corner_of(M::triangle(x), v);
+      if (cv.is_valid()) queue.push_back({mesh.vertex(M::next(cv)).idx, mesh.vertex(M::prev(cv)).idx});
+    }
   }
   return n;
 }

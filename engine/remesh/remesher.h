@@ -44,7 +44,7 @@ struct RemeshOptions {
   // A move that raises the worst quality of its fan by less than this
   // leaves its neighbourhood unmarked: the next smoothing and swap passes
   // visit the vertices near the moves that mattered (0: near every move).
-  double smoothing_spread_gain = 1e-3;
+  double smoothing_spread_gain = 1e-2;
   int final_smoothing_passes = 10;   // section 6's final optimisation: "about 8-10"
   // ... of which the first final_full_passes visit every vertex, the others
   // only the vertices with a triangle of quality below final_visit_quality
@@ -62,7 +62,7 @@ struct RemeshOptions {
   bool valence_swaps = true;
   double valence_swap_gain = 0.6;
   bool local_swaps = true;           // section 6, step 2: swaps around each split / collapse
-  int max_local_swap_visits = 4;     // ... each edge of the vertex's link tried at most this often
+  int max_local_swap_visits = 4;     // ... at most this many swaps per edge of the vertex's link at the start
   int max_swap_visits = 8;           // a swap pass ends after this many visits per edge it started with
   // Budget of a split or collapse pass (a guard against cycles that grows
   // with the mesh: a refinement multiplies the triangles many times over in
