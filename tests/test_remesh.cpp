@@ -581,6 +581,37 @@ TEST_CASE("remesh: Remark 5 cache: the edges of the last 10 modifications are pr
   }
 }
 
+TEST_CASE("remesh: the swaps around a split vertex leave no link edge that can_swap accepts") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
+  ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
+  auto s = make_setup(mesh, sol, 0, false);
+  RemeshOptions o;
+  o.local_swaps = false;  // the split pass leaves the swaps to the test
+  Remesher r(*s->adapted, o);
+  const PassReport split = r.step(PassKind::Split);
+  REQUIRE(split.splits > 20);
+  RemeshOptions with_swaps;
+  Remesher swapper(*s->adapted, with_swaps);
+  const SurfaceMesh& m = s->adapted->mesh();
+  int swaps = 0, checked = 0;
+  for (int idx : split.touched) {
+    const Vertex v(idx);
+    if (m.is_deleted(v) || m.is_isolated(v)) continue;
+    PassReport report;
+    swaps += swapper.local_swaps(v, report);
+    CHECK(report.swaps >= 0);
+    for (Corner c : m.fan_corners(v)) {
+      // c names the edge of its triangle opposite v: a link edge
+      const SwapPlan plan = can_swap(*s->adapted, c, with_swaps.op);
+      CHECK_MESSAGE(plan.why != Rejection::None, "vertex " << idx << ": a link edge still improves by a swap");
+      ++checked;
+    }
+  }
+  MESSAGE(swaps << " swaps around " << split.touched.size() << " split vertices, " << checked << " link edges checked");
+  CHECK(swaps > 0);
+  check_state(*s->adapted, "after the local swaps");
+}
+
 // The bundled demo (scripts/make_demo.py): a 162-vertex icosphere under a
 // metric of sizes 0.015 across a wavy band and 0.1 along it. On its coarse
 // triangles the metric varies so much between the vertices that c_K with a

@@ -249,6 +249,11 @@ class Remesher {
   // than `undoing` among the last cache_size ones (the passes refuse to undo it).
   bool in_cache(Vertex a, Vertex b, PassKind undoing) const;
   AdaptedMesh& adapted() { return mesh_; }
+  // Section 6, step 2: the swaps around v after a split or collapse, tried
+  // on its link edges while they improve (each swap brings two new link
+  // edges); returns the count. Leaves no link edge of v that can_swap
+  // accepts, unless max_local_swap_visits swaps per starting link edge ran out.
+  int local_swaps(Vertex v, PassReport& r);
 
  private:
   struct Modification {
@@ -312,8 +317,6 @@ class Remesher {
   // over the whole mesh, or over the triangles around `around` (the
   // vertices a sweep added: nothing else changed).
   std::vector<BeyondBound> edges_beyond_bound(const std::vector<Vertex>* around = nullptr);
-  // Swaps around v (its link edges) while they improve; returns the count.
-  int local_swaps(Vertex v, PassReport& r);
   // Final pass: swaps of interior edges that bring the four vertices'
   // valences closer to 6, where the metric is isotropic and alike at the
   // four, accepted by can_swap with the worst quality allowed to drop to
