@@ -329,18 +329,17 @@ int Remesher::local_swaps(Vertex v, PassReport& r) {
     const SwapPlan plan = can_swap(mesh_, c, options_.op);
     if (plan.why != Rejection::None) continue;
     const Corner d = swap(mesh_, c);
-    // The two triangles rewritten: the sag memo of their slots is stale.
+    ++n;
+    ++r.swaps;
+    // The two triangles rewritten: the sag memo of their slots is stale, and
+    // each holds one new link edge (the side opposite v).
     for (Corner x : {d, mesh.opposite(d)}) {
       stamp(mesh.vertex(x));
       stamp(mesh.edge_from(x));
-    }
-    ++n;
-    ++r.swaps;
-    if (static_cast<std::size_t>(n) >= max_swaps) break;
-    for (Corner x : {d, mesh.opposite(d)}) {
       const Corner cv = mesh.corner_of(M::triangle(x), v);
       if (cv.is_valid()) queue.push_back({mesh.vertex(M::next(cv)).idx, mesh.vertex(M::prev(cv)).idx});
     }
+    if (static_cast<std::size_t>(n) >= max_swaps) break;
   }
   return n;
 }
