@@ -14,6 +14,7 @@
 #include <future>
 
 #include "core/error.h"
+#include "core/release_memory.h"
 #include "geometry/features.h"
 #include "geometry/normals.h"
 #include "geometry/parallel_chunks.h"
@@ -65,7 +66,9 @@ MetricField take_adapted_metric(SurfaceMesh& t1) {
     for (double lambda : t1.get_vertex_property<double>(kIsotropicMetricProperty).vector())
       m.push_back(SymTensor3::identity(lambda));
   } else {
-    m = std::move(t1.get_vertex_property<SymTensor3>(kMetricProperty).vector());
+    const std::vector<PackedMetric>& packed = t1.get_vertex_property<PackedMetric>(kMetricProperty).vector();
+    m.reserve(packed.size());
+    for (const PackedMetric& p : packed) m.push_back(p.unpack());
   }
   t1.vertex_properties().remove(kIsotropicMetricProperty);
   t1.vertex_properties().remove(kMetricProperty);
@@ -386,6 +389,7 @@ AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& 
                                                   input_bound_of(options));
     timer.done("T_1 located on T_G and T_0");
     report.setup_seconds = timer.total();
+    release_free_memory();  // the setup's temporary arrays
 
     RemeshOptions remesh_options = remesh_options_of(options);
     set_growth_limits(remesh_options, options.max_growth, report.predicted_vertices, t0.n_vertices());

@@ -108,8 +108,8 @@ bool stores_isotropic_metric(const SurfaceMesh& mesh) {
 void widen_metric_property(SurfaceMesh& mesh) {
   const Property<double> iso = mesh.get_vertex_property<double>(kIsotropicMetricProperty);
   if (!iso) return;
-  Property<SymTensor3> full = mesh.vertex_property<SymTensor3>(kMetricProperty, SymTensor3::identity());
-  for (int i = 0; i < mesh.vertex_capacity(); ++i) full[Vertex(i)] = SymTensor3::identity(iso[Vertex(i)]);
+  Property<PackedMetric> full = mesh.vertex_property<PackedMetric>(kMetricProperty);
+  for (int i = 0; i < mesh.vertex_capacity(); ++i) full[Vertex(i)] = PackedMetric::pack(SymTensor3::identity(iso[Vertex(i)]));
   mesh.vertex_properties().remove(kIsotropicMetricProperty);
 }
 
@@ -131,7 +131,7 @@ void AdaptedMesh::set_metric(Vertex v, const SymTensor3& M) {
     }
     store_full_metric();
   }
-  metric_[v] = M;
+  metric_[v] = PackedMetric::pack(M);
 }
 
 double AdaptedMesh::isotropic_length(Vertex a, Vertex b) const {
@@ -146,7 +146,7 @@ double AdaptedMesh::isotropic_length(Vertex a, Vertex b) const {
 void AdaptedMesh::bind_properties() {
   metric_iso_ = mesh_.get_vertex_property<double>(kIsotropicMetricProperty);
   iso_ = static_cast<bool>(metric_iso_);
-  metric_ = iso_ ? Property<SymTensor3>() : mesh_.vertex_property<SymTensor3>(kMetricProperty, SymTensor3::identity());
+  metric_ = iso_ ? Property<PackedMetric>() : mesh_.vertex_property<PackedMetric>(kMetricProperty);
   normal_ = mesh_.vertex_property<PackedNormal>("remesh:normal");
   on_surface_ = mesh_.vertex_property<std::uint8_t>("remesh:on_surface", 1);
   hint_g_ = mesh_.vertex_property<Hint>("remesh:hint_g");

@@ -1,10 +1,11 @@
 // T_1, the mesh being adapted (report section 6), tied to T_G and T_0.
 //
 // Each vertex of T_1 carries, in property arrays: its metric (interpolated in
-// T_0 at its location there), one hint per reference mesh (the triangle of
-// its last location in T_G and in T_0: "three pointers to triangles", section
-// 6) and the solution values of T_0's fields. place() computes all of it for
-// a candidate position (projection onto the geometry, location in T_0), and
+// T_0 at its location there; stored as PackedMetric, or one double where every
+// metric is isotropic), one hint per reference mesh (the triangle of its
+// last location in T_G and in T_0: "three pointers to triangles", section 6)
+// and the solution values of T_0's fields. place() computes all of it for a
+// candidate position (projection onto the geometry, location in T_0), and
 // commit() is the one hook that writes it to a vertex after an operator
 // created or moved it.
 #pragma once
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "core/packed_normal.h"
+#include "metric/packed_metric.h"
 #include "remesh/reference.h"
 
 namespace anisurf::remesh {
@@ -127,7 +129,7 @@ class AdaptedMesh {
   // is_isotropic), T_1 stores the lambda of lambda I (8 bytes a vertex
   // instead of 48) and turns to full tensors at the first metric that is
   // not (a relaxation stage, Remark 6).
-  SymTensor3 metric(Vertex v) const { return iso_ ? SymTensor3::identity(metric_iso_[v]) : metric_[v]; }
+  SymTensor3 metric(Vertex v) const { return iso_ ? SymTensor3::identity(metric_iso_[v]) : metric_[v].unpack(); }
   bool stores_isotropic_metric() const { return iso_; }
   // From now on full tensors (kMetricProperty) hold the metric.
   void store_full_metric();
@@ -177,7 +179,7 @@ class AdaptedMesh {
   }
   double length(Vertex a, Vertex b) const {
     if (iso_) return isotropic_length(a, b);
-    return length(mesh_.position(a), metric_[a], mesh_.position(b), metric_[b]);
+    return length(mesh_.position(a), metric_[a].unpack(), mesh_.position(b), metric_[b].unpack());
   }
   // Quality c_K (eq. 17) with edge lengths from the vertex metrics.
   double quality(const std::array<Vec3, 3>& p, const std::array<SymTensor3, 3>& M) const;
@@ -214,7 +216,7 @@ class AdaptedMesh {
   GeometrySurface& geometry_;
   ControlSpace& control_;
   LengthFormula length_;
-  Property<SymTensor3> metric_;   // full tensors (iso_ false)
+  Property<PackedMetric> metric_;  // full tensors (iso_ false), 24 bytes a vertex
   Property<double> metric_iso_;   // lambda of lambda I (iso_ true)
   bool iso_ = false;
   // The constructor's parallel commits: a metric that is not isotropic is

@@ -215,7 +215,7 @@ void Remesher::mark_all() {
   const std::size_t n = static_cast<std::size_t>(mesh_.mesh().vertex_capacity());
   swap_active_.assign(n, 1);
   smooth_active_.assign(n, 1);
-  flat_at_.assign(flat_at_.size(), 0);
+  flat_bits_.assign(flat_bits_.size(), 0);
 }
 
 bool Remesher::edge_sags(Corner c) {
@@ -225,19 +225,14 @@ bool Remesher::edge_sags(Corner c) {
   if (b.idx < a.idx) std::swap(a, b);
   const Corner o = mesh.opposite(c);
   const std::size_t slot = static_cast<std::size_t>(o.is_valid() && o.idx < c.idx ? o.idx : c.idx);
-  auto marked_at = [&](Vertex v) {
-    const std::size_t i = static_cast<std::size_t>(v.idx);
-    return i < marked_at_.size() ? marked_at_[i] : std::uint32_t{0};
-  };
-  if (slot < flat_at_.size() && flat_at_[slot] != 0) {
-    const std::uint64_t found = flat_at_[slot] - 1;
-    if (marked_at(a) <= found && marked_at(b) <= found) return false;
-  }
+  const std::size_t word = slot / 64;
+  const std::uint64_t bit = std::uint64_t{1} << (slot % 64);
+  if (word < flat_bits_.size() && (flat_bits_[word] & bit)) return false;
   const bool sags = edge_sags_off_input(mesh_, a, b, is_feature_edge(mesh, c), options_.op);
   if (!sags && options_.sag_memo) {
-    if (slot >= flat_at_.size())
-      flat_at_.resize(std::max<std::size_t>(slot + 1, 3 * static_cast<std::size_t>(mesh.triangle_capacity())), 0);
-    flat_at_[slot] = static_cast<std::uint32_t>(marks_ + 1);
+    if (word >= flat_bits_.size())
+      flat_bits_.resize(std::max<std::size_t>(word + 1, (3 * static_cast<std::size_t>(mesh.triangle_capacity()) + 63) / 64), 0);
+    flat_bits_[word] |= bit;
   }
   return sags;
 }
@@ -255,6 +250,11 @@ bool Remesher::interrupted(PassReport& r) {
 }
 
 void Remesher::mark(Vertex v) {
+  activate(v);
+  stamp(v);
+}
+
+void Remesher::activate(Vertex v) {
   const std::size_t i = static_cast<std::size_t>(v.idx);
   if (i >= swap_active_.size()) {
     const std::size_t n = std::max<std::size_t>(i + 1, static_cast<std::size_t>(mesh_.mesh().vertex_capacity()));
@@ -263,20 +263,17 @@ void Remesher::mark(Vertex v) {
   }
   swap_active_[i] = 1;
   smooth_active_[i] = 1;
-  stamp(v);
 }
 
 void Remesher::stamp(Vertex v) {
-  const std::size_t i = static_cast<std::size_t>(v.idx);
-  if (i >= marked_at_.size())
-    marked_at_.resize(std::max<std::size_t>(i + 1, static_cast<std::size_t>(mesh_.mesh().vertex_capacity())), 0);
-  // The stamps are 32-bit: before they wrap, the memo starts again empty.
-  if (marks_ == std::numeric_limits<std::uint32_t>::max() - 1) {
-    marks_ = 0;
-    std::fill(marked_at_.begin(), marked_at_.end(), 0);
-    std::fill(flat_at_.begin(), flat_at_.end(), 0);
+  if (flat_bits_.empty()) return;
+  const SurfaceMesh& mesh = mesh_.mesh();
+  if (mesh.is_isolated(v)) return;
+  for (Corner c : mesh.fan_corners(v)) {
+    const std::size_t first = 3 * static_cast<std::size_t>(M::triangle(c).idx);
+    for (std::size_t slot = first; slot < first + 3; ++slot)
+      if (slot / 64 < flat_bits_.size()) flat_bits_[slot / 64] &= ~(std::uint64_t{1} << (slot % 64));
   }
-  marked_at_[i] = ++marks_;
 }
 
 void Remesher::record_touched(PassReport& r, Vertex v) {
@@ -291,7 +288,7 @@ void Remesher::record_touched(PassReport& r, Vertex v) {
 void Remesher::touch(PassReport& r, Vertex v) {
   record_touched(r, v);
   mark(v);
-  for (Vertex w : mesh_.mesh().ring_vertices(v)) mark(w);
+  for (Vertex w : mesh_.mesh().ring_vertices(v)) activate(w);
 }
 
 void Remesher::remember(PassKind kind, Vertex v) {

@@ -329,19 +329,23 @@ class Remesher {
   // first ones, and the final optimisation, visit all).
   void touch(PassReport& r, Vertex v);
   void record_touched(PassReport& r, Vertex v);
+  // Marks v for the next swap and smoothing passes and stamps it.
   void mark(Vertex v);
+  // Marks v for the next swap and smoothing passes only.
+  void activate(Vertex v);
   // The vertex changed (the sag memo of its edges is stale), without marking
   // it for the next swap and smoothing passes.
   void stamp(Vertex v);
   void mark_all();
   // edge_sags_off_input for the edge named by corner c, remembered for the
   // edges found not to sag: such an edge is not measured again until one of
-  // its ends is marked or stamped (its place, metric or neighbourhood
-  // changed). The memo is kept per corner slot (at the edge's lower corner),
-  // so an entry outlives its edge when the slot is rewritten: every change of
-  // the triangles therefore stamps the vertices of the triangles it writes
-  // (touch, mark or stamp) before the next query, which makes the slot's
-  // older entry stale.
+  // its ends is stamped (moved, created, or its fan rewritten). The memo is
+  // one bit per corner slot (at the edge's lower corner), and a stamp of v
+  // clears the bits of every corner of v's fan: the edges at v and the slots
+  // of the triangles around it. An operator's triangles all lie in the fan
+  // of a vertex it stamps (a split's new vertex, a collapse's survivor, a
+  // swap's four vertices), so a slot rewritten with another edge starts
+  // without a bit.
   bool edge_sags(Corner c);
   // Reserves the mesh arrays for the size the target metric asks for.
   void reserve_for_metric();
@@ -360,10 +364,9 @@ class Remesher {
   long long interrupt_polls_ = 0;
   std::vector<EdgeItem> heap_;  // split / collapse passes: the heap's storage
   std::vector<std::uint8_t> touched_mark_;  // per vertex slot: in the pass's touched list
-  std::uint32_t marks_ = 0;                 // marks so far (since the memo last started again)
-  std::vector<std::uint32_t> marked_at_;    // per vertex slot: marks_ at its last mark
-  // Per corner slot: 1 + marks_ when the edge it names was found not to sag, 0: none.
-  std::vector<std::uint32_t> flat_at_;
+  // Per corner slot, a bit: the edge it names (at its lower corner) was
+  // found not to sag and neither end was stamped since (edge_sags).
+  std::vector<std::uint64_t> flat_bits_;
 };
 
 }  // namespace anisurf::remesh
