@@ -14,7 +14,6 @@
 #include <future>
 
 #include "core/error.h"
-#include "core/release_memory.h"
 #include "geometry/features.h"
 #include "geometry/normals.h"
 #include "geometry/parallel_chunks.h"
@@ -389,7 +388,6 @@ AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& 
                                                   input_bound_of(options));
     timer.done("T_1 located on T_G and T_0");
     report.setup_seconds = timer.total();
-    release_free_memory();  // the setup's temporary arrays
 
     RemeshOptions remesh_options = remesh_options_of(options);
     set_growth_limits(remesh_options, options.max_growth, report.predicted_vertices, t0.n_vertices());

@@ -9,7 +9,6 @@
 #include <span>
 #include <thread>
 
-#include "core/release_memory.h"
 #include "remesh/operators.h"
 #include "remesh/partition.h"
 
@@ -50,11 +49,10 @@ std::vector<PassReport> remesh_region(AdaptedMesh& whole, Region& r, GeometrySur
   // The region waits for its paste holding the slots its collapses freed
   // and the room reserved for its growth: compacted (live slots keep their
   // order; the paste finds the whole's vertices by the origin property) and
-  // shrunk, one array at a time; the pages freed go back to the system.
+  // shrunk, one array at a time.
   if (r.mesh.n_vertices() < r.mesh.vertex_capacity() || r.mesh.n_triangles() < r.mesh.triangle_capacity())
     r.mesh.compact();
   r.mesh.shrink_to_fit();
-  release_free_memory();
   return passes;
 }
 
@@ -232,7 +230,6 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     r = Region{};
     out.insert(out.end(), passes[static_cast<std::size_t>(k)].begin(), passes[static_cast<std::size_t>(k)].end());
   }
-  release_free_memory();
   std::vector<int> band = band_around(mesh, seeds, p.band_rings);
   fill_pinched_fans(mesh, band);
   Region b = cut_region(mesh, band, 0);
