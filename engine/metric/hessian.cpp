@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <span>
 
 #include "geometry/features.h"
 #include "geometry/parallel_chunks.h"
@@ -36,30 +37,24 @@ class RingCollector {
   void set_sector(const std::vector<Corner>* sector, bool near_features = true) {
     sector_ = sector;
     near_features_ = near_features;
-    last_ = {-1, 0, 0};
+    clear_collection();
   }
 
-  // The same request twice in a row (the normal fit, then the curvature fit
-  // at the same vertex) is answered from the last collection.
-  const std::vector<int>& collect(Vertex v, int rings, int min_points) {
-    const std::array<int, 3> request{v.idx, rings, min_points};
-    if (request == last_) return out_;
-    last_ = request;
-    met_features_ = false;
-    out_.clear();
-    seen_[v.idx] = 1;
-    std::size_t begin = 0;
-    add_ring_of(v, true);
-    for (int r = 1; r < 4 && (r < rings || static_cast<int>(out_.size()) < min_points); ++r) {
-      const std::size_t end = out_.size();
-      for (std::size_t i = begin; i < end; ++i) add_ring_of(Vertex(out_[i]), false);
-      begin = end;
+  // The points of rings 1..R around v: R at least `rings`, and more (up to
+  // 4) while there are fewer than min_points. The requests at one vertex and
+  // sector (the fits try rings 1 to 4, for the normal, then the curvature,
+  // at two degrees) extend one collection ring by ring and are answered by
+  // its prefixes: a ring's points depend only on the rings inside it.
+  std::span<const int> collect(Vertex v, int rings, int min_points) {
+    if (v.idx != centre_) start(v);
+    int r = 1;
+    for (;;) {
+      if (r > collected_) extend();
+      if (!(r < kMaxRings && (r < rings || ends_[r] < min_points))) break;
+      ++r;
     }
-    seen_[v.idx] = 0;
-    for (int w : out_) seen_[w] = 0;
-    for (int t : triangles_) triangle_seen_[t] = 0;
-    triangles_.clear();
-    return out_;
+    met_features_ = met_[r];
+    return {out_.data(), static_cast<std::size_t>(ends_[r])};
   }
 
   // True when the last collection passed a vertex on a feature curve (its
@@ -67,6 +62,38 @@ class RingCollector {
   bool met_features() const { return met_features_; }
 
  private:
+  static constexpr int kMaxRings = 4;
+
+  // The marks of the current collection cleared; none current.
+  void clear_collection() {
+    if (centre_ >= 0) seen_[static_cast<std::size_t>(centre_)] = 0;
+    for (int w : out_) seen_[static_cast<std::size_t>(w)] = 0;
+    for (int t : triangles_) triangle_seen_[static_cast<std::size_t>(t)] = 0;
+    out_.clear();
+    triangles_.clear();
+    centre_ = -1;
+  }
+  // A new collection at v, ring 1 taken.
+  void start(Vertex v) {
+    clear_collection();
+    centre_ = v.idx;
+    seen_[v.idx] = 1;
+    met_features_ = false;
+    add_ring_of(v, true);
+    ends_[0] = 0;
+    ends_[1] = static_cast<int>(out_.size());
+    met_[1] = met_features_;
+    collected_ = 1;
+  }
+  // The next ring: the neighbours of the outermost one.
+  void extend() {
+    const int k = collected_;
+    for (int i = ends_[k - 1]; i < ends_[k]; ++i) add_ring_of(Vertex(out_[static_cast<std::size_t>(i)]), false);
+    ends_[k + 1] = static_cast<int>(out_.size());
+    met_[k + 1] = met_features_;
+    collected_ = k + 1;
+  }
+
   void add_ring_of(Vertex u, bool centre) {
     if (!sided()) {
       for (Corner c : mesh_.fan_corners(u)) add_triangle_of(c);
@@ -124,7 +151,10 @@ class RingCollector {
   std::vector<char> triangle_seen_, allowed_;
   std::vector<int> triangles_;
   std::vector<Corner> fan_;
-  std::array<int, 3> last_{-1, 0, 0};
+  int centre_ = -1;     // the vertex of the current collection (-1: none)
+  int collected_ = 0;   // its rings so far
+  std::array<int, kMaxRings + 1> ends_{};   // out_'s size after each ring
+  std::array<bool, kMaxRings + 1> met_{};   // met_features_ after each ring
   bool met_features_ = false;
   bool near_features_ = true;
 };
@@ -144,7 +174,7 @@ struct LocalSystem {
 };
 
 template <class Value>
-const LocalSystem& local_system(const SurfaceMesh& mesh, Vertex v, const std::vector<int>& ring, const Vec3& n,
+const LocalSystem& local_system(const SurfaceMesh& mesh, Vertex v, std::span<const int> ring, const Vec3& n,
                                 int degree, Value value, LocalSystem& ls) {
   ls.frame = tangent_frame(n);
   const Vec3 p0 = mesh.position(v);
@@ -554,7 +584,7 @@ std::vector<char> within_rings_of_features(const SurfaceMesh& mesh, const std::v
 // The largest curvature of a circle tangent to the plane of n at v through
 // one of the points: 2 |depth| / distance^2. A quadric fitted on the points
 // bends no more than that in the directions they sample.
-double largest_point_curvature(const SurfaceMesh& mesh, Vertex v, const Vec3& n, const std::vector<int>& points) {
+double largest_point_curvature(const SurfaceMesh& mesh, Vertex v, const Vec3& n, std::span<const int> points) {
   const Vec3& p0 = mesh.position(v);
   double largest = 0;
   for (int w : points) {
