@@ -3,12 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <numeric>
+#include <thread>
 #include <utility>
 #include <vector>
 #include <unordered_map>
 #include <cstdio>
 #include <cstdlib>
+
+#include "geometry/parallel_chunks.h"
 
 namespace anisurf::remesh {
 
@@ -23,9 +27,46 @@ Vec3 centroid(const SurfaceMesh& mesh, Triangle t) {
 
 double axis_value(const Vec3& p, int axis) { return axis == 0 ? p.x : axis == 1 ? p.y : p.z; }
 
+// A triangle in the order of bisect's axis: its coordinate, ties broken by id.
+struct Keyed {
+  double x;
+  int id;
+  friend bool operator<(const Keyed& a, const Keyed& b) { return a.x < b.x || (a.x == b.x && a.id < b.id); }
+};
+
+// The cut of k (in the axis order): the first position i whose weight
+// before it plus half its own reaches `goal`, at most the last but one.
+// Found by selection, not sorting: each step places the middle of the
+// unsettled range (nth_element) and keeps the half that holds the cut; on
+// return k[0, cut) are the cut first triangles of the order (in no order).
+std::size_t weighted_cut(std::vector<Keyed>& k, const std::vector<double>& weight, double goal) {
+  auto w = [&](std::size_t i) { return weight[static_cast<std::size_t>(k[i].id)]; };
+  const std::size_t n = k.size();
+  std::size_t lo = 0, hi = n;  // the cut is in [lo, hi); k[0, lo) come first, weighing `before`
+  double before = 0;
+  while (hi - lo > 64) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    std::nth_element(k.begin() + static_cast<std::ptrdiff_t>(lo), k.begin() + static_cast<std::ptrdiff_t>(mid),
+                     k.begin() + static_cast<std::ptrdiff_t>(hi));
+    double s = 0;
+    for (std::size_t i = lo; i < mid; ++i) s += w(i);
+    if (mid < n - 1 && before + s + 0.5 * w(mid) < goal) {
+      before += s + w(mid);
+      lo = mid + 1;
+    } else {
+      hi = mid + 1;
+    }
+  }
+  std::sort(k.begin() + static_cast<std::ptrdiff_t>(lo), k.begin() + static_cast<std::ptrdiff_t>(hi));
+  std::size_t cut = lo;
+  while (cut < n - 1 && before + 0.5 * w(cut) < goal) before += w(cut++);
+  return cut;
+}
+
 // Splits ids[first, last) into `parts` regions numbered from `first_part`:
 // along the longest side of the centroids' box, at the share of the weight
-// the left regions get.
+// the left regions get. The two sides of a large range are split on two
+// threads.
 void bisect(std::vector<int>& ids, std::size_t first, std::size_t last, int parts, int first_part,
             const std::vector<Vec3>& centre, const std::vector<double>& weight, std::vector<int>& part) {
   if (parts <= 1 || last - first <= 1) {
@@ -36,25 +77,42 @@ void bisect(std::vector<int>& ids, std::size_t first, std::size_t last, int part
   for (std::size_t i = first; i < last; ++i) box.add(centre[static_cast<std::size_t>(ids[i])]);
   const Vec3 side = box.hi - box.lo;
   const int axis = side.x >= side.y && side.x >= side.z ? 0 : side.y >= side.z ? 1 : 2;
-  // Sorted as (coordinate, id) pairs side by side: a comparison reads no
-  // centroid through an id (a cache miss each on a large mesh).
-  std::vector<std::pair<double, int>> keyed;
+  // Coordinate and id side by side: a comparison reads no centroid through
+  // an id (a cache miss each on a large mesh).
+  std::vector<Keyed> keyed;
   keyed.reserve(last - first);
-  for (std::size_t i = first; i < last; ++i)
-    keyed.emplace_back(axis_value(centre[static_cast<std::size_t>(ids[i])], axis), ids[i]);
-  std::sort(keyed.begin(), keyed.end());
-  for (std::size_t i = first; i < last; ++i) ids[i] = keyed[i - first].second;
   double total = 0;
-  for (std::size_t i = first; i < last; ++i) total += weight[static_cast<std::size_t>(ids[i])];
+  for (std::size_t i = first; i < last; ++i) {
+    const auto t = static_cast<std::size_t>(ids[i]);
+    keyed.push_back({axis_value(centre[t], axis), ids[i]});
+    total += weight[t];
+  }
   const int left_parts = parts / 2;
-  const double goal = total * left_parts / parts;
-  std::size_t cut = first;
-  double sum = 0;
-  while (cut < last - 1 && sum + 0.5 * weight[static_cast<std::size_t>(ids[cut])] < goal)
-    sum += weight[static_cast<std::size_t>(ids[cut++])];
-  cut = std::max(cut, first + 1);
-  bisect(ids, first, cut, left_parts, first_part, centre, weight, part);
-  bisect(ids, cut, last, parts - left_parts, first_part + left_parts, centre, weight, part);
+  const std::size_t cut = first + std::max<std::size_t>(weighted_cut(keyed, weight, total * left_parts / parts), 1);
+  for (std::size_t i = first; i < last; ++i) ids[i] = keyed[i - first].id;
+  keyed = {};
+  auto left = [&] { bisect(ids, first, cut, left_parts, first_part, centre, weight, part); };
+  if (last - first >= 100000 && available_threads() > 1) {
+    std::exception_ptr error;
+    std::thread t([&] {
+      try {
+        left();
+      } catch (...) {
+        error = std::current_exception();
+      }
+    });
+    try {
+      bisect(ids, cut, last, parts - left_parts, first_part + left_parts, centre, weight, part);
+    } catch (...) {
+      t.join();
+      throw;
+    }
+    t.join();
+    if (error) std::rethrow_exception(error);
+  } else {
+    left();
+    bisect(ids, cut, last, parts - left_parts, first_part + left_parts, centre, weight, part);
+  }
 }
 
 std::uint64_t edge_key(int a, int b) {
@@ -82,12 +140,15 @@ std::vector<int> partition_triangles(const AdaptedMesh& m, int parts) {
   std::vector<Vec3> centre(n);
   std::vector<double> weight(n, 0.0);
   ids.reserve(static_cast<std::size_t>(mesh.n_triangles()));
-  for (Triangle t : mesh.triangles()) {
-    const auto i = static_cast<std::size_t>(t.idx);
-    centre[i] = centroid(mesh, t);
-    weight[i] = triangle_work(m, t);
-    ids.push_back(t.idx);
-  }
+  for (Triangle t : mesh.triangles()) ids.push_back(t.idx);
+  const int nt = static_cast<int>(ids.size());
+  run_chunks(nt, chunk_count(nt, 16384), [&](int, int begin, int end) {
+    for (int k = begin; k < end; ++k) {
+      const Triangle t(ids[static_cast<std::size_t>(k)]);
+      centre[static_cast<std::size_t>(t.idx)] = centroid(mesh, t);
+      weight[static_cast<std::size_t>(t.idx)] = triangle_work(m, t);
+    }
+  });
   bisect(ids, 0, ids.size(), std::max(parts, 1), 0, centre, weight, part);
   return part;
 }
