@@ -127,7 +127,7 @@ class AdaptedMesh {
   // The metric of v (T_0's, interpolated where v lies: section 6). Where T_0's
   // metric is isotropic (eq. 3) at every vertex (ControlSpace::
   // is_isotropic), T_1 stores the lambda of lambda I (8 bytes a vertex
-  // instead of 48) and turns to full tensors at the first metric that is
+  // instead of 24) and turns to full tensors at the first metric that is
   // not (a relaxation stage, Remark 6).
   SymTensor3 metric(Vertex v) const { return iso_ ? SymTensor3::identity(metric_iso_[v]) : metric_[v].unpack(); }
   bool stores_isotropic_metric() const { return iso_; }
