@@ -269,11 +269,13 @@ void Remesher::stamp(Vertex v) {
   if (flat_bits_.empty()) return;
   const SurfaceMesh& mesh = mesh_.mesh();
   if (mesh.is_isolated(v)) return;
-  for (Corner c : mesh.fan_corners(v)) {
-    const std::size_t first = 3 * static_cast<std::size_t>(M::triangle(c).idx);
-    for (std::size_t slot = first; slot < first + 3; ++slot)
-      if (slot / 64 < flat_bits_.size()) flat_bits_[slot / 64] &= ~(std::uint64_t{1} << (slot % 64));
-  }
+  for (Corner c : mesh.fan_corners(v)) forget_triangle(M::triangle(c));
+}
+
+void Remesher::forget_triangle(Triangle t) {
+  const std::size_t first = 3 * static_cast<std::size_t>(t.idx);
+  for (std::size_t slot = first; slot < first + 3; ++slot)
+    if (slot / 64 < flat_bits_.size()) flat_bits_[slot / 64] &= ~(std::uint64_t{1} << (slot % 64));
 }
 
 void Remesher::record_touched(PassReport& r, Vertex v) {
@@ -331,8 +333,7 @@ int Remesher::local_swaps(Vertex v, PassReport& r) {
     // The two triangles rewritten: the sag memo of their slots is stale, and
     // each holds one new link edge (the side opposite v).
     for (Corner x : {d, mesh.opposite(d)}) {
-      stamp(mesh.vertex(x));
-      stamp(mesh.edge_from(x));
+      forget_triangle(M::triangle(x));
       const Corner cv = mesh.corner_of(M::triangle(x), v);
       if (cv.is_valid()) queue.push_back({mesh.vertex(M::next(cv)).idx, mesh.vertex(M::prev(cv)).idx});
     }
@@ -494,8 +495,9 @@ void Remesher::swap_pass(PassReport& r) {
     for (Corner x : {d, od}) {
       record_touched(r, mesh.vertex(x));
       record_touched(r, mesh.edge_from(x));
-      mark(mesh.vertex(x));
-      mark(mesh.edge_from(x));
+      activate(mesh.vertex(x));
+      activate(mesh.edge_from(x));
+      forget_triangle(M::triangle(x));
     }
   }
   again.clear();

@@ -334,18 +334,21 @@ class Remesher {
   // Marks v for the next swap and smoothing passes only.
   void activate(Vertex v);
   // The vertex changed (the sag memo of its edges is stale), without marking
-  // it for the next swap and smoothing passes.
+  // it for the next swap and smoothing passes: forget_triangle over its fan.
   void stamp(Vertex v);
+  // The sag memo of t's three corner slots cleared (t rewritten by a swap:
+  // its vertices stay, the edges its slots name change).
+  void forget_triangle(Triangle t);
   void mark_all();
   // edge_sags_off_input for the edge named by corner c, remembered for the
   // edges found not to sag: such an edge is not measured again until one of
   // its ends is stamped (moved, created, or its fan rewritten). The memo is
   // one bit per corner slot (at the edge's lower corner), and a stamp of v
   // clears the bits of every corner of v's fan: the edges at v and the slots
-  // of the triangles around it. An operator's triangles all lie in the fan
-  // of a vertex it stamps (a split's new vertex, a collapse's survivor, a
-  // swap's four vertices), so a slot rewritten with another edge starts
-  // without a bit.
+  // of the triangles around it. A split's and a collapse's triangles all lie
+  // in the fan of the vertex it stamps (the new vertex, the survivor), and a
+  // swap forgets its two triangles, so a slot rewritten with another edge
+  // starts without a bit.
   bool edge_sags(Corner c);
   // Reserves the mesh arrays for the size the target metric asks for.
   void reserve_for_metric();
