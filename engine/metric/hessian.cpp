@@ -28,6 +28,7 @@ class RingCollector {
 
   // Per vertex slot: 1 on a feature edge. Null: plain rings.
   void set_features(const std::vector<char>* on_feature) {
+    clear_collection();
     on_feature_ = on_feature;
     if (on_feature_) triangle_seen_.assign(static_cast<std::size_t>(mesh_.triangle_capacity()), 0);
   }
