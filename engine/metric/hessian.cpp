@@ -345,28 +345,35 @@ bool solve_full(const LocalSystem& ls, PivotedQR& qr, double rank_threshold, Vec
   return true;
 }
 
-// Minimum-norm least-squares solution of M x = r, singular values below
-// `tolerance` * `reference` counted as zero. `range` receives an orthonormal
+// Minimum-norm least-squares solutions of M x = r, singular values below
+// `tolerance` * `reference` counted as zero: M's singular value
+// decomposition once, for every right-hand side. `range()` is an orthonormal
 // basis of the resolved part of M's range.
-struct MinNormSolution {
-  Eigen::VectorXd x;
-  Eigen::MatrixXd range;
+class MinNormSolver {
+ public:
+  MinNormSolver(const Eigen::MatrixXd& M, double tolerance, double reference) : cols_(M.cols()) {
+    range_.resize(M.rows(), 0);
+    if (M.cols() == 0 || !(reference > 0)) return;
+    svd_.compute(M, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    const Eigen::VectorXd& sigma = svd_.singularValues();
+    while (rank_ < sigma.size() && sigma(rank_) > tolerance * reference) ++rank_;
+    range_ = svd_.matrixU().leftCols(rank_);
+  }
+  const Eigen::MatrixXd& range() const { return range_; }
+  Eigen::VectorXd solve(const Eigen::VectorXd& r) const {
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(cols_);
+    if (rank_ == 0) return x;
+    const Eigen::VectorXd coefficients = range_.transpose() * r;
+    for (int k = 0; k < rank_; ++k) x += (coefficients(k) / svd_.singularValues()(k)) * svd_.matrixV().col(k);
+    return x;
+  }
+
+ private:
+  Eigen::Index cols_ = 0;
+  int rank_ = 0;
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd_;
+  Eigen::MatrixXd range_;
 };
-MinNormSolution min_norm_solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& r, double tolerance,
-                               double reference) {
-  MinNormSolution out;
-  out.x = Eigen::VectorXd::Zero(M.cols());
-  out.range.resize(M.rows(), 0);
-  if (M.cols() == 0 || !(reference > 0)) return out;
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(M, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  const Eigen::VectorXd& sigma = svd.singularValues();
-  int rank = 0;
-  while (rank < sigma.size() && sigma(rank) > tolerance * reference) ++rank;
-  out.range = svd.matrixU().leftCols(rank);
-  const Eigen::VectorXd coefficients = out.range.transpose() * r;
-  for (int k = 0; k < rank; ++k) out.x += (coefficients(k) / sigma(k)) * svd.matrixV().col(k);
-  return out;
-}
 
 // v minus its projection on the orthonormal columns of U.
 Eigen::MatrixXd project_out(const Eigen::MatrixXd& U, const Eigen::MatrixXd& v) {
@@ -397,29 +404,25 @@ int solve_reduced(const LocalSystem& ls, Vec3& gradient, SymTensor3& hessian) {
     C.col(3) /= std::sqrt(3.0);
   }
   // The ranges of the gradient, then of the quadratic terms beyond it.
-  const MinNormSolution g_range = min_norm_solve(G, Eigen::VectorXd::Zero(m), kTolerance, G.norm());
-  const Eigen::MatrixXd Qp = project_out(g_range.range, Q);
-  const MinNormSolution q_range = min_norm_solve(Qp, Eigen::VectorXd::Zero(m), kTolerance, Q.norm());
+  const MinNormSolver g_fit(G, kTolerance, G.norm());
+  const Eigen::MatrixXd Qp = project_out(g_fit.range(), Q);
+  const MinNormSolver q_fit(Qp, kTolerance, Q.norm());
   // Cubic terms: what neither the gradient nor the quadratic terms explain.
+  const Eigen::MatrixXd Cp =
+      cubic ? project_out(q_fit.range(), project_out(g_fit.range(), C)) : Eigen::MatrixXd(m, 0);
+  const MinNormSolver c_fit(Cp, kTolerance, cubic ? C.norm() : 0.0);
+  const int resolved = static_cast<int>(g_fit.range().cols() + q_fit.range().cols() + c_fit.range().cols());
+  if (q_fit.range().cols() == 0 || m < resolved + 2) return 0;
   Eigen::VectorXd c = Eigen::VectorXd::Zero(C.cols());
-  int cubic_rank = 0;
-  if (cubic) {
-    const Eigen::MatrixXd Cp = project_out(q_range.range, project_out(g_range.range, C));
-    const Eigen::VectorXd bp = project_out(q_range.range, project_out(g_range.range, ls.b));
-    const MinNormSolution cs = min_norm_solve(Cp, bp, kTolerance, C.norm());
-    c = cs.x;
-    cubic_rank = static_cast<int>(cs.range.cols());
-  }
+  if (cubic) c = c_fit.solve(project_out(q_fit.range(), project_out(g_fit.range(), ls.b)));
   const Eigen::VectorXd r = ls.b - C * c;
-  const MinNormSolution qs = min_norm_solve(Qp, project_out(g_range.range, r), kTolerance, Q.norm());
-  const MinNormSolution gs = min_norm_solve(G, r - Q * qs.x, kTolerance, G.norm());
-  const int resolved = static_cast<int>(g_range.range.cols() + q_range.range.cols()) + cubic_rank;
-  if (q_range.range.cols() == 0 || m < resolved + 2) return 0;
+  const Eigen::VectorXd qs = q_fit.solve(project_out(g_fit.range(), r));
+  const Eigen::VectorXd gs = g_fit.solve(r - Q * qs);
   Eigen::VectorXd a = Eigen::VectorXd::Zero(ls.A.cols());
-  a.head(2) = gs.x;
-  a(2) = qs.x(0);
-  a(3) = qs.x(1) / std::sqrt(2.0);
-  a(4) = qs.x(2);
+  a.head(2) = gs;
+  a(2) = qs(0);
+  a(3) = qs(1) / std::sqrt(2.0);
+  a(4) = qs(2);
   write_derivatives(ls, a.data(), gradient, hessian);
   return resolved;
 }
