@@ -235,8 +235,10 @@ TEST_CASE("anisurf adapt progress on a terminal (script's pseudo-terminal): a li
   const auto dir = test::temp_dir("adapt_progress_tty");
   const std::string out = (dir / "out.mesh").string();
   // Only stderr reaches the terminal; no delay (the hemisphere takes 0.1 s).
+  // One thread: the serial loop's lines (on two, the hemisphere's 10k
+  // triangles are two regions, whose lines name them).
   const std::string inner = std::string(ANISURF_BINARY) + " adapt '" + mesh + "' -sol '" + sol + "' -o '" + out +
-                            "' >/dev/null";
+                            "' --threads 1 >/dev/null";
   int status = -1;
   std::string tty = capture("ANISURF_PROGRESS_DELAY=0 COLUMNS=100 script -qec \"" + inner + "\" /dev/null </dev/null", &status);
   REQUIRE(status == 0);

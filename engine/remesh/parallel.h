@@ -37,8 +37,11 @@ struct ParallelOptions {
   // about the triangles it holds and will hold): a smaller mesh is remeshed
   // by fewer regions. One round (a region per thread) asks min_region_work
   // of each; more regions than threads, min_round_work of each (every region
-  // adds a border to remesh again in the band, serially).
-  double min_region_work = 8000;
+  // adds a border to remesh again in the band, serially). A few thousand
+  // triangles already pay for a region: where a metric from curvature meets
+  // a CAD part's creases every operation checks the input around it, and
+  // the rounds, not the triangles, make the time.
+  double min_region_work = 3000;
   double min_round_work = 20000;
   int band_rings = 4;  // step 3: rings around the borders remeshed again
 };
