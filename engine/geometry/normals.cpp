@@ -580,17 +580,16 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
           }
         }
       });
-      // Residual 1e-6 of the first step's right-hand side: the Gauss-Newton
-      // steps correct the rest (1e-10 took 2 s more on 500k triangles for
-      // the same surface), and a later step, whose right-hand side is
-      // already small, is solved to the same absolute accuracy, not to 1e-6
-      // of itself.
+      // Residual mirror_tolerance of the first step's right-hand side: a
+      // later step, whose right-hand side is already smaller, is solved to
+      // the same absolute accuracy, not to a share of itself.
+      const double tolerance = options.mirror_tolerance;
       double rhs_norm = 0;
       for (double v : rhs) rhs_norm += v * v;
       rhs_norm = std::sqrt(rhs_norm);
       if (it == 0) first_rhs_norm = rhs_norm;
-      if (!(rhs_norm > 1e-6 * first_rhs_norm)) break;
-      solve_conjugate_gradient(sys.A, rhs, std::min(1.0, 1e-6 * first_rhs_norm / rhs_norm), 2000, x);
+      if (!(rhs_norm > tolerance * first_rhs_norm)) break;
+      solve_conjugate_gradient(sys.A, rhs, std::min(1.0, tolerance * first_rhs_norm / rhs_norm), 2000, x);
       bool finite = true;
       for (double v : x) finite = finite && std::isfinite(v);
       if (!finite) break;
