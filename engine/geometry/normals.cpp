@@ -1,12 +1,13 @@
 #include "geometry/normals.h"
 
-#include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
 #include "geometry/features.h"
 #include "geometry/parallel_chunks.h"
+#include "geometry/pivoted_qr.h"
 #include "geometry/symmetric_cg.h"
 
 namespace anisurf {
@@ -72,20 +73,9 @@ class LocalFit {
   }
 
   // Normal of the height function fitted in the frame of n0 through the
-  // origin, or zero if ill-posed.
-  static Vec3 fit(const std::vector<Vec3>& pts, const Vec3& n0, int degree) {
-    // Up to kStackRows points (every regular neighbourhood) the least-squares
-    // system lives on the stack: no allocation per vertex.
-    constexpr int kStackRows = 64;
-    if (pts.size() <= kStackRows)
-      return fit_in<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kStackRows, 9>,
-                    Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kStackRows, 1>>(pts, n0, degree);
-    return fit_in<Eigen::MatrixXd, Eigen::VectorXd>(pts, n0, degree);
-  }
-
- private:
-  template <class Matrix, class Vector>
-  static Vec3 fit_in(const std::vector<Vec3>& pts, const Vec3& n0, int degree) {
+  // origin, or zero if ill-posed (rank below the unknowns' count: a pivot of
+  // the least-squares QR at most 1e-8 of the largest).
+  Vec3 fit(const std::vector<Vec3>& pts, const Vec3& n0, int degree) {
     const int m = static_cast<int>(pts.size());
     const int k = degree == 3 ? 9 : 5;
     if (m < k) return {};
@@ -95,11 +85,13 @@ class LocalFit {
     for (const Vec3& p : pts) h += norm(p);
     h /= m;
     if (!(h > 0)) return {};
-    Matrix A(m, k);
-    Vector z(m);
+    // The system by columns: A(i, j) at a_[j * m + i].
+    a_.assign(static_cast<std::size_t>(m) * k, 0.0);
+    z_.resize(static_cast<std::size_t>(m));
+    auto A = [&](int i, int j) -> double& { return a_[static_cast<std::size_t>(j) * m + i]; };
     for (int i = 0; i < m; ++i) {
       const double x = dot(pts[i], t1) / h, y = dot(pts[i], t2) / h;
-      z(i) = dot(pts[i], n0) / h;
+      z_[static_cast<std::size_t>(i)] = dot(pts[i], n0) / h;
       A(i, 0) = x;
       A(i, 1) = y;
       A(i, 2) = x * x;
@@ -112,14 +104,14 @@ class LocalFit {
         A(i, 8) = y * y * y;
       }
     }
-    Eigen::ColPivHouseholderQR<Matrix> qr(A);
-    qr.setThreshold(1e-8);
-    if (qr.rank() < k) return {};
-    const Vector c = qr.solve(z);
+    if (!qr_.factor_full_rank(a_.data(), m, k, 1e-8)) return {};
+    std::array<double, PivotedQR::kMaxColumns> c{};
+    qr_.solve(z_.data(), c.data());
     // z = c0 x + c1 y + ... : the normal is (-c0, -c1, 1) in the frame
-    return normalized(n0 - c(0) * t1 - c(1) * t2);
+    return normalized(n0 - c[0] * t1 - c[1] * t2);
   }
 
+ private:
   void visit_tri(Triangle t) {
     if (tri_mark_[t.idx]) return;
     tri_mark_[t.idx] = 1;
@@ -146,6 +138,9 @@ class LocalFit {
   std::vector<Triangle> tris_;
   std::vector<Vertex> ring1_, verts_;
   std::vector<Vec3> points_;
+  // The least-squares system of fit(), reused from one fit to the next.
+  std::vector<double> a_, z_;
+  PivotedQR qr_;
 };
 
 double angle_of(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
@@ -251,7 +246,7 @@ SectorEstimate estimate_sector_normal(const SurfaceMesh& mesh, Vertex v, const s
     const int degree = (options.cubic_min_points > 0 && static_cast<int>(pts.size()) >= options.cubic_min_points) ? 3 : 2;
     Vec3 fit = n;
     for (int it = 0; it <= options.fit_iterations; ++it) {
-      const Vec3 next = LocalFit::fit(pts, fit, degree);
+      const Vec3 next = fitter.fit(pts, fit, degree);
       if (norm(next) == 0) {
         fit = Vec3();
         break;
