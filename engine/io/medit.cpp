@@ -767,7 +767,7 @@ class TextOut {
       auto res = std::to_chars(b, b + sizeof b, static_cast<float>(v));
       buf_.append(b, res.ptr);
     } else {
-      buf_.append(format_double(v));
+      append_double(buf_, v);
     }
     return *this;
   }

@@ -133,11 +133,11 @@ void write_obj(const std::string& path, const MeshData& data) {
   out += "# written by anisurf\n";
   for (const Vec3& p : data.vertices) {
     out += "v ";
-    out += format_double(p.x);
+    append_double(out, p.x);
     out += ' ';
-    out += format_double(p.y);
+    append_double(out, p.y);
     out += ' ';
-    out += format_double(p.z);
+    append_double(out, p.z);
     out += '\n';
   }
   char buf[16];

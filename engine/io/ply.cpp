@@ -469,11 +469,11 @@ void write_ply(const std::string& path, const MeshData& data, bool binary, bool 
     out.reserve(out.size() + nv * 48 + nt * 24);
     for (std::size_t i = 0; i < nv; ++i) {
       const Vec3& p = data.vertices[i];
-      out += format_double(p.x);
+      append_double(out, p.x);
       out += ' ';
-      out += format_double(p.y);
+      append_double(out, p.y);
       out += ' ';
-      out += format_double(p.z);
+      append_double(out, p.z);
       if (vref) {
         out += ' ';
         out += std::to_string(data.vertex_refs[i]);

@@ -461,7 +461,7 @@ void write_sol_ascii(const std::string& path, const std::vector<FieldView>& fiel
       for (int c = 0; c < nc; ++c) {
         if (!first) buf.push_back(' ');
         first = false;
-        buf += format_double(fd.values[static_cast<std::size_t>(i) * static_cast<std::size_t>(nc) + static_cast<std::size_t>(c)]);
+        append_double(buf, fd.values[static_cast<std::size_t>(i) * static_cast<std::size_t>(nc) + static_cast<std::size_t>(c)]);
       }
     }
     buf.push_back('\n');

@@ -49,9 +49,15 @@ std::string read_file_contents(const std::string& path) {
 }
 
 std::string format_double(double v) {
+  std::string out;
+  append_double(out, v);
+  return out;
+}
+
+void append_double(std::string& out, double v) {
   char buf[64];
   auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
+  out.append(buf, r.ptr);
 }
 
 bool parse_real(std::string_view t, double& v) {

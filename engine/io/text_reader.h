@@ -98,6 +98,9 @@ std::string quoted(std::string_view token);
 std::string read_file_contents(const std::string& path);
 // Shortest decimal text that reads back to exactly the same double.
 std::string format_double(double v);
+// The same text appended to `out` (no string of its own: the writers'
+// inner loops).
+void append_double(std::string& out, double v);
 bool host_is_little_endian();
 
 }  // namespace anisurf

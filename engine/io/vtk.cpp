@@ -67,7 +67,7 @@ void write_vtk(const std::string& path, const MeshData& d) {
   const std::size_t nv = d.vertices.size(), nt = d.triangles.size(), ne = d.edges.size();
   std::string b;
   b.reserve(64 * (nv + nt + ne) + 256);
-  auto num = [&](double v) { b += format_double(v); };
+  auto num = [&](double v) { append_double(b, v); };
   b += "# vtk DataFile Version 3.0\nanisurf surface mesh\nASCII\nDATASET POLYDATA\n";
   b += "POINTS " + std::to_string(nv) + " double\n";
   for (const auto& p : d.vertices) {
