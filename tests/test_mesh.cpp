@@ -415,6 +415,63 @@ TEST_CASE("free lists: deleted slots are reused, compact renumbers properties") 
   for (int i = 0; i < m.vertex_capacity(); ++i) CHECK(label.vector().size() == static_cast<std::size_t>(m.vertex_capacity()));
 }
 
+TEST_CASE("absorb: another mesh moved in, free slots first, properties and tags carried, the part emptied") {
+  SurfaceMesh whole;
+  build_mesh(grid(3), whole);
+  auto label = whole.add_vertex_property<int>("label", -1);
+  for (Vertex v : whole.vertices()) label[v] = v.idx;
+  for (Corner c : whole.fan(Vertex(0))) whole.delete_triangle(SurfaceMesh::triangle(c));
+  whole.delete_vertex(Vertex(0));
+  const int nv = whole.n_vertices(), nt = whole.n_triangles();
+  const int cap_v = whole.vertex_capacity(), cap_t = whole.triangle_capacity();
+  const int free_t = cap_t - nt;
+  REQUIRE(free_t > 0);
+
+  SurfaceMesh part;
+  build_mesh(tetrahedron(), part);
+  for (Vertex v : part.vertices()) part.position(v) = part.position(v) + Vec3{5, 0, 0};
+  auto part_label = part.add_vertex_property<int>("label", -1);
+  part.add_vertex_property<double>("only_in_part", 1.0);
+  for (Vertex v : part.vertices()) part_label[v] = 100 + v.idx;
+  part.set_vertex_tags(Vertex(2), kRequired);
+  part.set_vertex_ref(Vertex(3), 7);
+  part.set_triangle_ref(Triangle(1), 9);
+  part.set_edge_ref(SurfaceMesh::corner(Triangle(0), 0), 4);
+  const SurfaceMesh copy = part;
+
+  const AbsorbMap map = whole.absorb(std::move(part), {});
+  require_valid(whole);
+  CHECK(part.vertex_capacity() == 0);
+  CHECK(part.triangle_capacity() == 0);
+  CHECK(whole.n_vertices() == nv + 4);
+  CHECK(whole.n_triangles() == nt + 4);
+  // The free vertex slot 0 and the free triangle slots are used first.
+  CHECK(map.vertex[0] == 0);
+  CHECK(whole.vertex_capacity() == cap_v + 3);
+  CHECK(whole.triangle_capacity() == cap_t + std::max(0, 4 - free_t));
+  CHECK_FALSE(whole.get_vertex_property<double>("only_in_part"));
+  for (Vertex v : copy.vertices()) {
+    const Vertex w(map.vertex[static_cast<std::size_t>(v.idx)]);
+    CHECK(whole.position(w) == copy.position(v));
+    CHECK(label[w] == 100 + v.idx);
+    CHECK(whole.vertex_tags(w) == copy.vertex_tags(v));
+    CHECK(whole.vertex_ref(w) == copy.vertex_ref(v));
+  }
+  for (Triangle t : copy.triangles()) {
+    const Triangle w(map.triangle[static_cast<std::size_t>(t.idx)]);
+    CHECK(whole.triangle_ref(w) == copy.triangle_ref(t));
+    for (int k = 0; k < 3; ++k) {
+      CHECK(whole.vertex(w, k).idx == map.vertex[static_cast<std::size_t>(copy.vertex(t, k).idx)]);
+      const Corner c = SurfaceMesh::corner(t, k), wc = SurfaceMesh::corner(w, k);
+      CHECK(whole.edge_ref(wc) == copy.edge_ref(c));
+      CHECK(SurfaceMesh::triangle(whole.opposite(wc)).idx == map.triangle[static_cast<std::size_t>(SurfaceMesh::triangle(copy.opposite(c)).idx)]);
+    }
+  }
+  // The grid's vertices and their labels are untouched.
+  for (Vertex v : whole.vertices())
+    if (whole.position(v).x < 4) CHECK(label[v] == v.idx);
+}
+
 TEST_CASE("add_triangle links neighbours; a copy is independent") {
   SurfaceMesh m;
   Vertex a = m.add_vertex({0, 0, 0}), b = m.add_vertex({1, 0, 0}), c = m.add_vertex({1, 1, 0}),

@@ -87,7 +87,7 @@ TEST_CASE("partition: the regions cut out and pasted back unchanged give the sam
       for (Vertex v : regions.back().border) CHECK_FALSE(m.is_deleted(v));
     }
     for (int k = 0; k < parts; ++k) {
-      paste_region(m, part, k, regions[static_cast<std::size_t>(k)].mesh);
+      paste_region(m, part, k, std::move(regions[static_cast<std::size_t>(k)].mesh));
       check_valid(m, "after a paste");
     }
     CHECK(m.n_vertices() == nv);
@@ -109,7 +109,7 @@ TEST_CASE("partition: a band around the borders, cut and pasted, keeps the mesh 
   CHECK(in_band > 0);
   CHECK(in_band < m.n_triangles());
   Region b = cut_region(m, band, 0);
-  paste_region(m, band, 0, b.mesh);
+  paste_region(m, band, 0, std::move(b.mesh));
   check_valid(m, "after the band");
 }
 

@@ -29,6 +29,10 @@ class BasePropertyArray {
   virtual std::unique_ptr<BasePropertyArray> clone_empty() const = 0;
   // Entry j takes entry i of `from` (pre: same type).
   virtual void copy_entry(const BasePropertyArray& from, std::size_t i, std::size_t j) = 0;
+  // Grows to n entries (the new ones initial); entry to[i] takes entry i of
+  // `from` (pre: same type), or the initial value when `from` is null, for
+  // every to[i] >= 0. `from`'s storage is freed.
+  virtual void absorb(BasePropertyArray* from, const std::vector<int>& to, std::size_t n) = 0;
   virtual const std::type_info& type() const = 0;
   virtual std::size_t size() const = 0;
   const std::string& name() const { return name_; }
@@ -64,6 +68,15 @@ class PropertyArray final : public BasePropertyArray {
   }
   void copy_entry(const BasePropertyArray& from, std::size_t i, std::size_t j) override {
     data_[j] = static_cast<const PropertyArray<T>&>(from).data_[i];
+  }
+  void absorb(BasePropertyArray* from, const std::vector<int>& to, std::size_t n) override {
+    data_.resize(n, init_);
+    auto* other = static_cast<PropertyArray<T>*>(from);
+    for (std::size_t i = 0; i < to.size(); ++i) {
+      if (to[i] < 0) continue;
+      data_[static_cast<std::size_t>(to[i])] = other && i < other->data_.size() ? std::move(other->data_[i]) : init_;
+    }
+    if (other) std::vector<T>().swap(other->data_);
   }
   const std::type_info& type() const override { return typeid(T); }
   std::size_t size() const override { return data_.size(); }
@@ -189,6 +202,16 @@ class PropertyContainer {
   }
   static void copy_entry(const ArrayPairs& pairs, std::size_t i, std::size_t j) {
     for (const auto& [to, from] : pairs) to->copy_entry(*from, i, j);
+  }
+  // Grows every array to n entries; entry to[i] takes entry i of `from`'s
+  // array of the same name and type (the initial value where `from` has
+  // none), one array at a time, each of `from`'s arrays freed once copied.
+  void absorb(PropertyContainer& from, const std::vector<int>& to, std::size_t n) {
+    for (auto& a : arrays_) {
+      BasePropertyArray* b = from.find(a->name());
+      a->absorb(b && b->type() == a->type() ? b : nullptr, to, n);
+    }
+    size_ = n;
   }
 
  private:

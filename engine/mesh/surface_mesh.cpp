@@ -305,6 +305,86 @@ CompactMap SurfaceMesh::compact() {
   return map;
 }
 
+namespace {
+
+// into[to[i]] = f(from[i]) for every to[i] >= 0, into grown to n entries
+// first; from's storage is freed.
+template <class T, class F>
+void scatter_and_free(std::vector<T>& into, std::size_t n, std::vector<T>& from, const std::vector<int>& to, F&& f) {
+  into.resize(n);
+  for (std::size_t i = 0; i < to.size(); ++i)
+    if (to[i] >= 0) into[static_cast<std::size_t>(to[i])] = f(from[i]);
+  std::vector<T>().swap(from);
+}
+
+void scatter_and_free(RefArray& into, std::size_t n, RefArray& from, const std::vector<int>& to) {
+  into.resize(n);
+  if (from.stored())
+    for (std::size_t i = 0; i < to.size(); ++i)
+      if (to[i] >= 0) into.set(static_cast<std::size_t>(to[i]), from[i]);
+  from.clear();
+  from.shrink_to_fit();
+}
+
+// The slot of each live element of a part (the free slots of `free` first,
+// then new ones from `next` on); -1 for the others.
+std::vector<int> assign_slots(const std::vector<char>& live, std::vector<int>& free, std::size_t& next) {
+  std::vector<int> slot(live.size(), -1);
+  for (std::size_t i = 0; i < live.size(); ++i) {
+    if (!live[i]) continue;
+    if (!free.empty()) {
+      slot[i] = free.back();
+      free.pop_back();
+    } else {
+      slot[i] = static_cast<int>(next++);
+    }
+  }
+  return slot;
+}
+
+}  // namespace
+
+AbsorbMap SurfaceMesh::absorb(SurfaceMesh&& part, const std::vector<int>& existing) {
+  const std::size_t pv = part.vpos_.size(), pt = part.tv_.size() / 3;
+  AbsorbMap map;
+  // Slots: the new vertices and the triangles; existing vertices keep theirs.
+  std::vector<char> live(pv, 0);
+  for (std::size_t v = 0; v < pv; ++v)
+    live[v] = part.vcorner_[v] != kDeletedMark && !(v < existing.size() && existing[v] >= 0);
+  std::size_t nv = vpos_.size();
+  const std::vector<int> new_vertex = assign_slots(live, free_vertices_, nv);
+  map.vertex = new_vertex;
+  for (std::size_t v = 0; v < pv && v < existing.size(); ++v)
+    if (existing[v] >= 0 && part.vcorner_[v] != kDeletedMark) map.vertex[v] = existing[v];
+  live.assign(pt, 0);
+  for (std::size_t t = 0; t < pt; ++t) live[t] = part.tv_[3 * t] >= 0;
+  std::size_t nt = tv_.size() / 3;
+  map.triangle = assign_slots(live, free_triangles_, nt);
+  std::vector<int> corner_slot(3 * pt, -1);
+  for (std::size_t t = 0; t < pt; ++t)
+    if (map.triangle[t] >= 0)
+      for (int k = 0; k < 3; ++k) corner_slot[3 * t + k] = 3 * map.triangle[t] + k;
+  const auto corner_of = [&](int c) { return c < 0 ? -1 : corner_slot[static_cast<std::size_t>(c)]; };
+  const auto same = [](auto x) { return x; };
+
+  // Vertices, one array at a time.
+  scatter_and_free(vpos_, nv, part.vpos_, new_vertex, same);
+  scatter_and_free(vcorner_, nv, part.vcorner_, new_vertex, corner_of);
+  scatter_and_free(vtag_, nv, part.vtag_, new_vertex, same);
+  scatter_and_free(vref_, nv, part.vref_, new_vertex);
+  vprops_.absorb(part.vprops_, new_vertex, nv);
+  // Triangles and their corners.
+  scatter_and_free(tv_, 3 * nt, part.tv_, corner_slot, [&](int v) { return map.vertex[static_cast<std::size_t>(v)]; });
+  scatter_and_free(to_, 3 * nt, part.to_, corner_slot, corner_of);
+  scatter_and_free(etag_, 3 * nt, part.etag_, corner_slot, same);
+  scatter_and_free(eref_, 3 * nt, part.eref_, corner_slot);
+  scatter_and_free(ttag_, nt, part.ttag_, map.triangle, same);
+  scatter_and_free(tref_, nt, part.tref_, map.triangle);
+  tprops_.absorb(part.tprops_, map.triangle, nt);
+  part = SurfaceMesh();
+  return map;
+}
+
 SurfaceMesh SurfaceMesh::empty_like() const {
   SurfaceMesh m;
   m.dimension_ = dimension_;

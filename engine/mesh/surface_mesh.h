@@ -82,6 +82,8 @@ struct CompactMap {
   std::vector<int> vertex;
   std::vector<int> triangle;
 };
+// Where absorb() put another mesh's slots (-1: a deleted slot).
+using AbsorbMap = CompactMap;
 
 class SurfaceMesh;
 
@@ -392,6 +394,17 @@ class SurfaceMesh {
   void delete_vertex(Vertex v);      // pre: no live triangle uses v
   // Removes deleted slots; returns the renumbering. Properties follow.
   CompactMap compact();
+  // Moves the live elements of `part` into this mesh (the regions of a
+  // parallel pass pasted back): vertex v of part is vertex existing[v] of
+  // this mesh when that is >= 0 (its data here stays), else a new one, which
+  // takes v's position, tags, reference, corner and properties; every live
+  // triangle is a new one, with its tags, references, properties and the
+  // links between part's triangles (part's open corners stay open, for the
+  // caller to link). Free slots are used first. The copy goes one array at
+  // a time, each of part's arrays freed once copied, so the two meshes never
+  // hold two copies of the pasted elements at once. The caller restores the
+  // fans of the existing vertices.
+  AbsorbMap absorb(SurfaceMesh&& part, const std::vector<int>& existing);
   // A mesh with no elements and this one's layout: dimension, fields, and
   // property arrays of the same names and types (for copying elements
   // between the two: PropertyContainer::pairs_with).

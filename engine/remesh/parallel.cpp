@@ -226,11 +226,13 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
   for (int k = 0; k < n; ++k) {
     Region& r = regions[static_cast<std::size_t>(k)];
     seeds.insert(seeds.end(), r.border.begin(), r.border.end());
-    paste_region(mesh, part, k, r.mesh);
+    paste_region(mesh, part, k, std::move(r.mesh));
     r = Region{};
     out.insert(out.end(), passes[static_cast<std::size_t>(k)].begin(), passes[static_cast<std::size_t>(k)].end());
   }
+  std::vector<int>().swap(part);  // the band's own map replaces it
   std::vector<int> band = band_around(mesh, seeds, p.band_rings);
+  std::vector<Vertex>().swap(seeds);
   fill_pinched_fans(mesh, band);
   Region b = cut_region(mesh, band, 0);
   RemeshOptions o = options;
@@ -246,7 +248,7 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     return out;
   }
   agree_on_metric_storage(m, std::span<Region>(&b, 1));
-  paste_region(mesh, band, 0, b.mesh);
+  paste_region(mesh, band, 0, std::move(b.mesh));
   out.insert(out.end(), band_passes.begin(), band_passes.end());
   return out;
 }

@@ -340,7 +340,7 @@ Region cut_region(const SurfaceMesh& whole, const std::vector<int>& part, int wh
   return out;
 }
 
-void paste_region(SurfaceMesh& whole, std::vector<int>& part, int which, const SurfaceMesh& region) {
+void paste_region(SurfaceMesh& whole, std::vector<int>& part, int which, SurfaceMesh&& region) {
   auto in_region = [&](Triangle t) {
     return t.is_valid() && static_cast<std::size_t>(t.idx) < part.size() && part[static_cast<std::size_t>(t.idx)] == which;
   };
@@ -376,69 +376,37 @@ void paste_region(SurfaceMesh& whole, std::vector<int>& part, int which, const S
     if (!keep[static_cast<std::size_t>(v.idx)]) whole.delete_vertex(v);
 
   // The region's vertices: border ones are the whole's, the others new.
-  const auto vpairs = whole.vertex_properties().pairs_with(region.vertex_properties());
-  const auto tpairs = whole.triangle_properties().pairs_with(region.triangle_properties());
   const Property<int> origin_of = region.get_vertex_property<int>(kRegionOriginProperty);
-  std::vector<int> to_whole(static_cast<std::size_t>(region.vertex_capacity()), -1);
-  for (Vertex v : region.vertices()) {
-    const int o = origin_of ? origin_of[v] : -1;
-    if (o >= 0) {
-      to_whole[static_cast<std::size_t>(v.idx)] = o;
-      continue;
-    }
-    const Vertex w = whole.add_vertex(region.position(v));
-    whole.set_vertex_tags(w, region.vertex_tags(v));
-    whole.set_vertex_ref(w, region.vertex_ref(v));
-    PropertyContainer::copy_entry(vpairs, static_cast<std::size_t>(v.idx), static_cast<std::size_t>(w.idx));
-    to_whole[static_cast<std::size_t>(v.idx)] = w.idx;
-  }
+  std::vector<int> existing(static_cast<std::size_t>(region.vertex_capacity()), -1);
+  if (origin_of)
+    for (Vertex v : region.vertices()) existing[static_cast<std::size_t>(v.idx)] = origin_of[v];
+  const AbsorbMap map = whole.absorb(std::move(region), existing);
 
-  std::vector<int> tri(static_cast<std::size_t>(region.triangle_capacity()), -1);
-  for (Triangle t : region.triangles()) {
-    const Triangle w = whole.allocate_triangle();
-    tri[static_cast<std::size_t>(t.idx)] = w.idx;
-    for (int k = 0; k < 3; ++k)
-      whole.set_corner_vertex(M::corner(w, k), Vertex(to_whole[static_cast<std::size_t>(region.vertex(t, k).idx)]));
-    whole.set_triangle_tags(w, region.triangle_tags(t));
-    whole.set_triangle_ref(w, region.triangle_ref(t));
-    PropertyContainer::copy_entry(tpairs, static_cast<std::size_t>(t.idx), static_cast<std::size_t>(w.idx));
-  }
-  auto whole_corner = [&](Corner rc) {
-    return Corner(3 * tri[static_cast<std::size_t>(M::triangle(rc).idx)] + M::local_index(rc));
-  };
-  for (Triangle t : region.triangles())
+  // The border edges linked to the triangles outside; the fans set again.
+  for (int w : map.triangle) {
+    if (w < 0) continue;
     for (int k = 0; k < 3; ++k) {
-      const Corner rc = M::corner(t, k);
-      const Corner wc = whole_corner(rc);
-      const Corner ro = region.opposite(rc);
-      if (ro.is_valid()) {
-        if (ro.idx < rc.idx) continue;  // linked from the other side
-        whole.link(wc, whole_corner(ro));
-        whole.set_edge_tags(wc, region.edge_tags(rc));
-        whole.set_edge_ref(wc, region.edge_ref(rc));
-        continue;
-      }
+      const Corner wc = M::corner(Triangle(w), k);
+      if (whole.opposite(wc).is_valid()) continue;
       const auto it = outside.find(edge_key(whole.edge_from(wc).idx, whole.edge_to(wc).idx));
-      if (it != outside.end()) {
-        const Corner o(it->second);
-        whole.link(wc, o);
-        whole.set_edge_tags(wc, whole.edge_tags(o));
-        whole.set_edge_ref(wc, whole.edge_ref(o));
-      } else {
-        whole.link(wc, Corner());
-        whole.set_edge_tags(wc, region.edge_tags(rc));
-        whole.set_edge_ref(wc, region.edge_ref(rc));
+      if (it == outside.end()) continue;
+      const Corner o(it->second);
+      whole.link(wc, o);
+      whole.set_edge_tags(wc, whole.edge_tags(o));
+      whole.set_edge_ref(wc, whole.edge_ref(o));
+    }
+  }
+  for (int w : map.triangle)
+    if (w >= 0)
+      for (int k = 0; k < 3; ++k) {
+        const Corner wc = M::corner(Triangle(w), k);
+        whole.set_vertex_corner(whole.vertex(wc), wc);
       }
-    }
-  for (Triangle t : region.triangles())
-    for (int k = 0; k < 3; ++k) {
-      const Corner wc = whole_corner(M::corner(t, k));
-      whole.set_vertex_corner(whole.vertex(wc), wc);
-    }
-  for (Triangle t : region.triangles())
-    for (int k = 0; k < 3; ++k) whole.update_vertex_corner(whole.vertex(whole_corner(M::corner(t, k))));
+  for (int w : map.triangle)
+    if (w >= 0)
+      for (int k = 0; k < 3; ++k) whole.update_vertex_corner(whole.vertex(M::corner(Triangle(w), k)));
   part.resize(static_cast<std::size_t>(whole.triangle_capacity()), -1);
-  for (int w : tri)
+  for (int w : map.triangle)
     if (w >= 0) part[static_cast<std::size_t>(w)] = -1;
 }
 

@@ -68,7 +68,8 @@ Region cut_region(const SurfaceMesh& whole, const std::vector<int>& part, int wh
 // from it with the same `part` and remeshed since, its border vertices and
 // edges unchanged): the border vertices are the whole's again, the others
 // new, the border edges linked to the triangles outside. The new triangle
-// slots get part -1 (`part` grows with the slots).
-void paste_region(SurfaceMesh& whole, std::vector<int>& part, int which, const SurfaceMesh& region);
+// slots get part -1 (`part` grows with the slots). The region is consumed,
+// its arrays freed one by one as they are copied.
+void paste_region(SurfaceMesh& whole, std::vector<int>& part, int which, SurfaceMesh&& region);
 
 }  // namespace anisurf::remesh

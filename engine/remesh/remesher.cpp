@@ -727,13 +727,17 @@ int Remesher::valence_swaps(PassReport& r) {
     return hi <= 1.5 * lo;
   };
   // The interior edges now, each with a corner naming it (a swap rewrites
-  // its two triangles: a corner that no longer names its edge is looked up).
+  // its two triangles: a corner that no longer names its edge is looked up);
+  // only those whose ends pass the metric test (the list of a large
+  // anisotropic mesh would add to its peak memory for nothing).
   struct EdgeAt {
     int a, b, corner;
   };
   std::vector<EdgeAt> edges;
   for (Corner c : mesh.edges()) {
-    if (!mesh.is_boundary_edge(c)) edges.push_back({mesh.edge_from(c).idx, mesh.edge_to(c).idx, c.idx});
+    if (mesh.is_boundary_edge(c)) continue;
+    const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
+    if (nearly_isotropic({a, b})) edges.push_back({a.idx, b.idx, c.idx});
   }
   int n = 0;
   for (const EdgeAt& e : edges) {
