@@ -301,6 +301,28 @@ TEST_CASE("split vertices are welded with a tolerance relative to the box") {
   CHECK(compute_stats(m).boundary_edges == 8);
 }
 
+TEST_CASE("identical positions: counted, merged on request, -0 equal to +0, the first vertex kept") {
+  MeshData d;
+  // Two triangles sharing an edge; vertices 4 and 5 repeat 1 and 2 (4 with -0.0).
+  d.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, -0.0, 0}, {0, 1, 0}};
+  d.triangles = {{0, 1, 2}, {4, 3, 5}};
+  SurfaceMesh kept, merged;
+  const BuildReport a = build_mesh(d, kept);
+  CHECK(a.unique_positions == 4);
+  CHECK(kept.n_vertices() == 6);
+  CHECK(kept.n_triangles() == 2);
+  BuildOptions o;
+  o.merge = BuildOptions::Merge::Always;
+  const BuildReport b = build_mesh(d, merged, o);
+  CHECK(b.unique_positions == 4);
+  CHECK(b.merged_vertices == 2);
+  REQUIRE(merged.n_vertices() == 4);
+  CHECK(merged.validate().ok());
+  int interior = 0;
+  for (Corner c : merged.edges()) interior += merged.opposite(c).is_valid();
+  CHECK(interior == 1);  // the two triangles share the merged edge
+}
+
 TEST_CASE("refused input names the problem") {
   SurfaceMesh m;
   MeshData empty;

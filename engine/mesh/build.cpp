@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <span>
@@ -96,22 +97,36 @@ std::uint64_t cell_hash(const GridCell& c) {
 
 // Representative of each vertex after merging coincident positions: exact
 // equality when tol == 0, else within tol (grid hashing, 27 neighbour cells).
+// A hash of a position by the bits of its coordinates (+0.0 for -0.0: they
+// compare equal).
+std::size_t position_hash(const Vec3& x) {
+  std::uint64_t h = 0x9e3779b97f4a7c15ull;
+  for (double c : {x.x + 0.0, x.y + 0.0, x.z + 0.0}) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &c, sizeof bits);
+    h ^= bits + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+    h *= 0xbf58476d1ce4e5b9ull;
+    h ^= h >> 31;
+  }
+  return static_cast<std::size_t>(h);
+}
+
 std::vector<int> merge_positions(const std::vector<Vec3>& p, double tol) {
   const int n = static_cast<int>(p.size());
   std::vector<int> rep(n);
   std::iota(rep.begin(), rep.end(), 0);
   if (tol <= 0) {
-    std::vector<int> order(n);
-    std::iota(order.begin(), order.end(), 0);
-    auto less = [&](int a, int b) {
-      if (p[a].x != p[b].x) return p[a].x < p[b].x;
-      if (p[a].y != p[b].y) return p[a].y < p[b].y;
-      if (p[a].z != p[b].z) return p[a].z < p[b].z;
-      return a < b;
-    };
-    std::sort(order.begin(), order.end(), less);
-    for (int i = 1; i < n; ++i)
-      if (p[order[i]] == p[order[i - 1]]) rep[order[i]] = rep[order[i - 1]];
+    // Equal positions: each vertex meets the first of its position in a hash
+    // table (open addressing, at most half full).
+    std::size_t size = 16;
+    while (size < 2 * static_cast<std::size_t>(n)) size *= 2;
+    std::vector<int> table(size, -1);
+    for (int v = 0; v < n; ++v) {
+      std::size_t i = position_hash(p[v]) & (size - 1);
+      while (table[i] >= 0 && !(p[table[i]] == p[v])) i = (i + 1) & (size - 1);
+      if (table[i] >= 0) rep[v] = table[i];
+      else table[i] = v;
+    }
     return rep;
   }
   const double cell = weld_cell_size(p, tol);
@@ -170,24 +185,33 @@ int vertex_bound(const std::vector<Tri>& tris) {
   return n;
 }
 
+// into[i] for the uses of `from` in the order of the part `part` of their
+// keys (32 bits of it: a vertex id below `buckets`), equal parts keeping
+// their order (a counting sort, stable).
+void counting_sort_uses(const std::vector<EdgeUse>& from, std::vector<EdgeUse>& into, int buckets, int shift) {
+  std::vector<int> start(static_cast<std::size_t>(buckets) + 1, 0);
+  auto part = [shift](const EdgeUse& u) { return static_cast<std::size_t>((u.key >> shift) & 0xffffffffu); };
+  for (const EdgeUse& u : from) ++start[part(u) + 1];
+  for (int b = 0; b < buckets; ++b) start[static_cast<std::size_t>(b) + 1] += start[static_cast<std::size_t>(b)];
+  into.resize(from.size());
+  for (const EdgeUse& u : from) into[static_cast<std::size_t>(start[part(u)]++)] = u;
+}
+
 // The uses of every edge (key, triangle, opposite corner), ordered by key,
-// then triangle, then corner.
+// then triangle, then corner: made in (triangle, corner) order and sorted
+// stably on the key's low vertex, then on its high one (a radix sort).
 std::vector<EdgeUse> sorted_edge_uses(const std::vector<Tri>& tris) {
   std::vector<EdgeUse> uses;
   reserve_huge(uses, tris.size() * 3);
   for (int t = 0; t < static_cast<int>(tris.size()); ++t)
     for (int k = 0; k < 3; ++k)
       uses.push_back({edge_key(tris[t][(k + 1) % 3], tris[t][(k + 2) % 3]), t, k});
-  const std::vector<int> order = bucket_order(
-      static_cast<int>(uses.size()), vertex_bound(tris), [&](int i) { return static_cast<int>(uses[i].key >> 32); },
-      [&](int i, int j) {
-        const EdgeUse &a = uses[i], &b = uses[j];
-        return a.key != b.key ? a.key < b.key : (a.tri != b.tri ? a.tri < b.tri : a.local < b.local);
-      });
+  const int buckets = vertex_bound(tris);
   std::vector<EdgeUse> sorted;
   reserve_huge(sorted, uses.size());
-  for (int i : order) sorted.push_back(uses[i]);
-  return sorted;
+  counting_sort_uses(uses, sorted, buckets, 0);
+  counting_sort_uses(sorted, uses, buckets, 32);
+  return uses;
 }
 
 // True when the edge opposite corner `local` of t runs in the same direction

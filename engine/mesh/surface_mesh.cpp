@@ -509,33 +509,33 @@ ValidationReport SurfaceMesh::validate() const {
       if (tv_[3 * t + 1] >= 0 || tv_[3 * t + 2] >= 0) err("deleted triangle " + std::to_string(t) + " has vertices");
       continue;
     }
-    const std::string ts = "triangle " + std::to_string(t);
+    const auto ts = [t] { return "triangle " + std::to_string(t); };
     bool ids_ok = true;
     for (int k = 0; k < 3; ++k) {
       int v = tv_[3 * t + k];
       if (v < 0 || v >= nv || vcorner_[v] == kDeletedMark) {
-        err(ts + ": vertex id " + std::to_string(v) + " invalid or deleted");
+        err(ts() + ": vertex id " + std::to_string(v) + " invalid or deleted");
         ids_ok = false;
       }
     }
     if (!ids_ok) continue;
     for (int k = 0; k < 3; ++k) ++corners_at[tv_[3 * t + k]];
     if (tv_[3 * t] == tv_[3 * t + 1] || tv_[3 * t + 1] == tv_[3 * t + 2] || tv_[3 * t] == tv_[3 * t + 2])
-      err(ts + ": degenerate (repeated vertex)");
+      err(ts() + ": degenerate (repeated vertex)");
     for (int k = 0; k < 3; ++k) {
       int c = 3 * t + k, o = to_[c];
       if (o < 0) continue;
       if (o >= static_cast<int>(tv_.size()) || tv_[3 * (o / 3)] < 0) {
-        err(ts + ": opposite corner " + std::to_string(o) + " invalid or deleted");
+        err(ts() + ": opposite corner " + std::to_string(o) + " invalid or deleted");
         continue;
       }
-      if (o / 3 == t) err(ts + ": linked to itself");
-      if (to_[o] != c) err(ts + ": opposite link of corner " + std::to_string(c) + " not symmetric");
+      if (o / 3 == t) err(ts() + ": linked to itself");
+      if (to_[o] != c) err(ts() + ": opposite link of corner " + std::to_string(c) + " not symmetric");
       Corner cc(c), oc(o);
       if (vertex(next(cc)) != vertex(prev(oc)) || vertex(prev(cc)) != vertex(next(oc)))
-        err(ts + ": edge of corner " + std::to_string(c) + " does not match its opposite (orientation)");
+        err(ts() + ": edge of corner " + std::to_string(c) + " does not match its opposite (orientation)");
       if (etag_[c] != etag_[o] || eref_[c] != eref_[o])
-        err(ts + ": edge data of corner " + std::to_string(c) + " differs from its opposite");
+        err(ts() + ": edge data of corner " + std::to_string(c) + " differs from its opposite");
     }
   }
 
@@ -544,13 +544,13 @@ ValidationReport SurfaceMesh::validate() const {
   for (int v = 0; v < nv; ++v) {
     int c = vcorner_[v];
     if (c == kDeletedMark) continue;
-    const std::string vs = "vertex " + std::to_string(v);
+    const auto vs = [v] { return "vertex " + std::to_string(v); };
     if (c < 0) {
-      if (corners_at[v] != 0) err(vs + ": marked isolated but used by triangles");
+      if (corners_at[v] != 0) err(vs() + ": marked isolated but used by triangles");
       continue;
     }
     if (c >= static_cast<int>(tv_.size()) || tv_[c] != v) {
-      err(vs + ": incident corner " + std::to_string(c) + " does not belong to it");
+      err(vs() + ": incident corner " + std::to_string(c) + " does not belong to it");
       continue;
     }
     int count = 0;
@@ -559,7 +559,7 @@ ValidationReport SurfaceMesh::validate() const {
     while (true) {
       ++count;
       if (tv_[cur.idx] != v) {
-        err(vs + ": fan walk reached a corner of another vertex");
+        err(vs() + ": fan walk reached a corner of another vertex");
         break;
       }
       Corner n = swing_ccw(cur);
@@ -569,10 +569,10 @@ ValidationReport SurfaceMesh::validate() const {
       cur = n;
     }
     if (count != corners_at[v])
-      err(vs + ": non-manifold or broken fan (" + std::to_string(count) + " of " + std::to_string(corners_at[v]) +
+      err(vs() + ": non-manifold or broken fan (" + std::to_string(count) + " of " + std::to_string(corners_at[v]) +
           " corners reached)");
     if (!closed && to_[prev(start).idx] >= 0)
-      err(vs + ": open fan does not start at its boundary edge");
+      err(vs() + ": open fan does not start at its boundary edge");
   }
   return r;
 }
