@@ -82,6 +82,21 @@ bool parse_integer(std::string_view t, long long& v) {
   const char* b = t.data();
   const char* e = b + t.size();
   if (*b == '+') ++b;
+  // Ids and counts: up to 18 digits cannot overflow; the rest (signs,
+  // longer numbers, junk) goes to from_chars.
+  if (b < e && e - b <= 18) {
+    long long x = 0;
+    const char* p = b;
+    for (; p < e; ++p) {
+      const auto digit = static_cast<unsigned>(*p - '0');
+      if (digit > 9) break;
+      x = 10 * x + digit;
+    }
+    if (p == e) {
+      v = x;
+      return true;
+    }
+  }
   auto r = std::from_chars(b, e, v);
   return r.ec == std::errc() && r.ptr == e;
 }
@@ -99,24 +114,36 @@ bool host_is_little_endian() {
 }
 
 TextReader::TextReader(const std::string& path, char comment)
-    : data_(read_file_contents(path)), path_(path), comment_(comment) {}
+    : data_(read_file_contents(path)), path_(path), comment_(comment) {
+  classify_characters();
+}
 
 TextReader::TextReader(std::string contents, const std::string& path, char comment)
-    : data_(std::move(contents)), path_(path), comment_(comment) {}
+    : data_(std::move(contents)), path_(path), comment_(comment) {
+  classify_characters();
+}
+
+void TextReader::classify_characters() {
+  kind_.fill(kToken);
+  for (char c : {' ', '\t', '\r', '\f', '\v'}) kind_[static_cast<unsigned char>(c)] = kSpace;
+  kind_[static_cast<unsigned char>('\n')] = kNewline;
+  if (comment_) kind_[static_cast<unsigned char>(comment_)] = kComment;
+}
 
 void TextReader::skip_space_and_comments() {
   const std::size_t n = data_.size();
+  const char* d = data_.data();
   while (pos_ < n) {
-    char c = data_[pos_];
-    if (c == '\n') {
+    const auto c = static_cast<unsigned char>(d[pos_]);
+    const std::uint8_t k = kind_[c];
+    if (k == kToken) break;
+    if (k == kNewline) {
       ++line_;
       ++pos_;
-    } else if (c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v') {
+    } else if (k == kSpace) {
       ++pos_;
-    } else if (comment_ && c == comment_) {
-      while (pos_ < n && data_[pos_] != '\n') ++pos_;
-    } else {
-      break;
+    } else {  // a comment, to the end of the line
+      while (pos_ < n && d[pos_] != '\n') ++pos_;
     }
   }
 }
@@ -127,16 +154,11 @@ bool TextReader::next(std::string_view& token) {
     token_line_ = line_;
     return false;
   }
-  std::size_t start = pos_;
-  const std::size_t n = data_.size();
-  while (pos_ < n) {
-    char c = data_[pos_];
-    if (c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v') break;
-    if (comment_ && c == comment_) break;
-    ++pos_;
-  }
+  const std::size_t start = pos_, n = data_.size();
+  const char* d = data_.data();
+  while (pos_ < n && kind_[static_cast<unsigned char>(d[pos_])] == kToken) ++pos_;
   token_line_ = line_;
-  token = std::string_view(data_).substr(start, pos_ - start);
+  token = std::string_view(d + start, pos_ - start);
   return true;
 }
 
@@ -209,23 +231,18 @@ std::string_view TextReader::rest_of_line() {
 
 bool TextReader::next_on_line(std::string_view& token) {
   const std::size_t n = data_.size();
-  while (pos_ < n && (data_[pos_] == ' ' || data_[pos_] == '\t' || data_[pos_] == '\r' || data_[pos_] == '\f' ||
-                      data_[pos_] == '\v'))
-    ++pos_;
+  const char* d = data_.data();
+  auto kind = [&](std::size_t i) { return kind_[static_cast<unsigned char>(d[i])]; };
+  while (pos_ < n && kind(pos_) == kSpace) ++pos_;
   token_line_ = line_;
-  if (pos_ >= n || data_[pos_] == '\n') return false;
-  if (comment_ && data_[pos_] == comment_) {
-    while (pos_ < n && data_[pos_] != '\n') ++pos_;
+  if (pos_ >= n || kind(pos_) == kNewline) return false;
+  if (kind(pos_) == kComment) {
+    while (pos_ < n && d[pos_] != '\n') ++pos_;
     return false;
   }
-  std::size_t start = pos_;
-  while (pos_ < n) {
-    char c = data_[pos_];
-    if (c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v') break;
-    if (comment_ && c == comment_) break;
-    ++pos_;
-  }
-  token = std::string_view(data_).substr(start, pos_ - start);
+  const std::size_t start = pos_;
+  while (pos_ < n && kind(pos_) == kToken) ++pos_;
+  token = std::string_view(d + start, pos_ - start);
   return true;
 }
 

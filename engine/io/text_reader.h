@@ -1,6 +1,7 @@
 // Tokenizer shared by the text readers: whole file in memory, whitespace
 // separated tokens, comment lines, line numbers for error messages.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -48,6 +49,11 @@ class TextReader {
 
  private:
   void skip_space_and_comments();
+  // What each byte is to the tokenizer (the comment character's entry
+  // depends on the reader).
+  enum : std::uint8_t { kToken, kSpace, kNewline, kComment };
+  void classify_characters();
+  std::array<std::uint8_t, 256> kind_{};
   std::string data_;
   std::string path_;
   std::size_t pos_ = 0;
