@@ -95,8 +95,6 @@ std::uint64_t cell_hash(const GridCell& c) {
          (static_cast<std::uint64_t>(c[2]) * 83492791u);
 }
 
-// Representative of each vertex after merging coincident positions: exact
-// equality when tol == 0, else within tol (grid hashing, 27 neighbour cells).
 // A hash of a position by the bits of its coordinates (+0.0 for -0.0: they
 // compare equal).
 std::size_t position_hash(const Vec3& x) {
@@ -111,6 +109,8 @@ std::size_t position_hash(const Vec3& x) {
   return static_cast<std::size_t>(h);
 }
 
+// Representative of each vertex after merging coincident positions: exact
+// equality when tol == 0, else within tol (grid hashing, 27 neighbour cells).
 std::vector<int> merge_positions(const std::vector<Vec3>& p, double tol) {
   const int n = static_cast<int>(p.size());
   std::vector<int> rep(n);
