@@ -494,6 +494,57 @@ TEST_CASE("absorb: another mesh moved in, free slots first, properties and tags 
     if (whole.position(v).x < 4) CHECK(label[v] == v.idx);
 }
 
+TEST_CASE("release_links: a waiting mesh gives its links back, found again identical; a slit keeps them") {
+  SurfaceMesh m;
+  build_mesh(read_mesh_data(test::asset_file("demo.mesh")), m);
+  // A hole, so that border edges and free slots are in the table too.
+  const Vertex v(5);
+  std::vector<Triangle> fan;
+  for (Corner c : m.fan_corners(v)) fan.push_back(SurfaceMesh::triangle(c));
+  for (Triangle t : fan) m.delete_triangle(t);
+  m.delete_vertex(v);
+  require_valid(m);
+  auto opposites = [](const SurfaceMesh& mesh) {
+    std::vector<int> o;
+    for (int c = 0; c < 3 * mesh.triangle_capacity(); ++c)
+      o.push_back(mesh.is_deleted(SurfaceMesh::triangle(Corner(c))) ? -2 : mesh.opposite(Corner(c)).idx);
+    return o;
+  };
+  const std::vector<int> before = opposites(m);
+  REQUIRE(std::count(before.begin(), before.end(), -1) > 0);
+
+  SUBCASE("links found again from the triangles alone") {
+    CHECK_FALSE(m.links_released());
+    REQUIRE(m.release_links());
+    CHECK(m.links_released());
+    m.restore_links();
+    CHECK_FALSE(m.links_released());
+    require_valid(m);
+    CHECK(opposites(m) == before);
+    m.restore_links();  // nothing to do
+    CHECK(opposites(m) == before);
+  }
+  SUBCASE("a slit whose two sides share their ends keeps its links") {
+    // Unlink one interior edge: its two sides run a->b and b->a, both on
+    // the border, which rebuilding from the triangles would join again.
+    Corner c;
+    for (int i = 0; i < 3 * m.triangle_capacity() && !c.is_valid(); ++i) {
+      const Corner k(i);
+      if (m.is_deleted(SurfaceMesh::triangle(k)) || m.is_boundary_edge(k)) continue;
+      if (m.is_boundary(m.edge_from(k)) || m.is_boundary(m.edge_to(k))) continue;
+      c = k;
+    }
+    REQUIRE(c.is_valid());
+    const Corner o = m.opposite(c);
+    m.link(c, Corner());
+    m.link(o, Corner());
+    const std::vector<int> slit = opposites(m);
+    CHECK_FALSE(m.release_links());
+    CHECK_FALSE(m.links_released());
+    CHECK(opposites(m) == slit);
+  }
+}
+
 TEST_CASE("add_triangle links neighbours; a copy is independent") {
   SurfaceMesh m;
   Vertex a = m.add_vertex({0, 0, 0}), b = m.add_vertex({1, 0, 0}), c = m.add_vertex({1, 1, 0}),

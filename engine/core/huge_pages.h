@@ -30,6 +30,23 @@ inline void advise_huge_pages(const void* data, std::size_t bytes) {
 #endif
 }
 
+// Gives the whole pages inside [data, data + bytes) back to the system
+// (Linux madvise MADV_DONTNEED; they read as zeros if touched again): for
+// the part of a large array already consumed, while the rest is read.
+// Elsewhere a no-op.
+inline void release_pages(const void* data, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_DONTNEED)
+  constexpr std::uintptr_t kPage = 4096;
+  if (data == nullptr) return;
+  const auto begin = (reinterpret_cast<std::uintptr_t>(data) + kPage - 1) & ~(kPage - 1);
+  const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(kPage - 1);
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
+#else
+  (void)data;
+  (void)bytes;
+#endif
+}
+
 // Reserves room for n elements in v, huge pages asked for.
 template <class T, class A>
 void reserve_huge(std::vector<T, A>& v, std::size_t n) {

@@ -579,7 +579,9 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
 namespace {
 
 // to_mesh_data without the positions when `positions` is false.
-MeshData flatten(const SurfaceMesh& mesh, bool positions) {
+// The file data of `mesh`; `given_away` (the same mesh, when it is given
+// away) loses its links once the edges are read.
+MeshData flatten(const SurfaceMesh& mesh, bool positions, SurfaceMesh* given_away = nullptr) {
   MeshData d;
   d.dimension = mesh.dimension();
   // Slot -> file id; none needed when every slot holds a vertex.
@@ -590,7 +592,6 @@ MeshData flatten(const SurfaceMesh& mesh, bool positions) {
   const bool vrefs = mesh.has_vertex_refs(), trefs = mesh.has_triangle_refs();
   if (positions) d.vertices.reserve(static_cast<std::size_t>(mesh.n_vertices()));
   if (vrefs) d.vertex_refs.reserve(static_cast<std::size_t>(mesh.n_vertices()));
-  d.triangles.reserve(static_cast<std::size_t>(mesh.n_triangles()));
   if (trefs) d.triangle_refs.reserve(static_cast<std::size_t>(mesh.n_triangles()));
   int id = 0;
   for (Vertex vh : mesh.vertices()) {
@@ -601,10 +602,9 @@ MeshData flatten(const SurfaceMesh& mesh, bool positions) {
     if (mesh.has_tag(vh, kRequired)) d.required_vertices.push_back(id);
     ++id;
   }
-  for (Triangle th : mesh.triangles()) {
-    if (mesh.has_tag(th, kRequired)) d.required_triangles.push_back(static_cast<int>(d.triangles.size()));
-    d.triangles.push_back({id_of(mesh.vertex(th, 0)), id_of(mesh.vertex(th, 1)), id_of(mesh.vertex(th, 2))});
-    if (trefs) d.triangle_refs.push_back(mesh.triangle_ref(th));
+  // The edges first: they need the links, which a mesh given away then
+  // frees before its triangles are copied.
+  for (Triangle th : mesh.triangles())
     for (int k = 0; k < 3; ++k) {
       Corner c = SurfaceMesh::corner(th, k);
       if (mesh.canonical(c) != c) continue;
@@ -616,6 +616,12 @@ MeshData flatten(const SurfaceMesh& mesh, bool positions) {
       if (tg & kRidge) d.ridges.push_back(e);
       if (tg & kRequired) d.required_edges.push_back(e);
     }
+  if (given_away) given_away->discard_links();
+  d.triangles.reserve(static_cast<std::size_t>(mesh.n_triangles()));
+  for (Triangle th : mesh.triangles()) {
+    if (mesh.has_tag(th, kRequired)) d.required_triangles.push_back(static_cast<int>(d.triangles.size()));
+    d.triangles.push_back({id_of(mesh.vertex(th, 0)), id_of(mesh.vertex(th, 1)), id_of(mesh.vertex(th, 2))});
+    if (trefs) d.triangle_refs.push_back(mesh.triangle_ref(th));
   }
   auto export_vectors = [&](const char* name, const char* flag, std::vector<Vec3>& vecs,
                             std::vector<std::array<int, 2>>& at) {
@@ -648,7 +654,7 @@ MeshData to_mesh_data(const SurfaceMesh& mesh) { return flatten(mesh, true); }
 
 MeshData to_mesh_data(SurfaceMesh&& mesh) {
   const bool slots_are_ids = mesh.n_vertices() == mesh.vertex_capacity();
-  MeshData d = flatten(mesh, !slots_are_ids);
+  MeshData d = flatten(mesh, !slots_are_ids, &mesh);
   if (slots_are_ids)
     d.vertices = mesh.release_positions();
   else

@@ -344,6 +344,46 @@ std::vector<int> assign_slots(const std::vector<char>& live, std::vector<int>& f
 
 }  // namespace
 
+bool SurfaceMesh::release_links() {
+  std::vector<int> links = std::move(to_);
+  to_.clear();
+  restore_links();
+  const bool same = to_ == links;
+  if (same) std::vector<int>().swap(to_);
+  else to_ = std::move(links);
+  return same;
+}
+
+void SurfaceMesh::restore_links() {
+  if (!links_released()) return;
+  const std::size_t nc = tv_.size(), nv = vpos_.size();
+  auto from = [&](std::size_t c) { return tv_[3 * (c / 3) + (c % 3 + 1) % 3]; };
+  auto to = [&](std::size_t c) { return tv_[3 * (c / 3) + (c % 3 + 2) % 3]; };
+  // The corners by the first vertex of their edge.
+  std::vector<int> start(nv + 1, 0);
+  for (std::size_t c = 0; c < nc; ++c)
+    if (tv_[3 * (c / 3)] >= 0) ++start[static_cast<std::size_t>(from(c)) + 1];
+  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<int> corners(static_cast<std::size_t>(start[nv]));
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (std::size_t c = 0; c < nc; ++c)
+      if (tv_[3 * (c / 3)] >= 0) corners[static_cast<std::size_t>(fill[static_cast<std::size_t>(from(c))]++)] = static_cast<int>(c);
+  }
+  to_.assign(nc, -1);
+  for (std::size_t c = 0; c < nc; ++c) {
+    if (tv_[3 * (c / 3)] < 0 || to_[c] >= 0) continue;
+    const int a = from(c), b = to(c);
+    for (int i = start[static_cast<std::size_t>(b)]; i < start[static_cast<std::size_t>(b) + 1]; ++i) {
+      const auto d = static_cast<std::size_t>(corners[static_cast<std::size_t>(i)]);
+      if (to(d) != a) continue;
+      to_[c] = static_cast<int>(d);
+      to_[d] = static_cast<int>(c);
+      break;
+    }
+  }
+}
+
 AbsorbMap SurfaceMesh::absorb(SurfaceMesh&& part, const std::vector<int>& existing) {
   const std::size_t pv = part.vpos_.size(), pt = part.tv_.size() / 3;
   AbsorbMap map;

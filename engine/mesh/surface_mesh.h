@@ -394,6 +394,18 @@ class SurfaceMesh {
   void delete_vertex(Vertex v);      // pre: no live triangle uses v
   // Removes deleted slots; returns the renumbering. Properties follow.
   CompactMap compact();
+  // Frees the opposite links (12 bytes a triangle) of a mesh that only
+  // waits, when restore_links() finds them all again from the triangles
+  // alone (a corner's opposite is the corner whose edge runs the other way;
+  // checked here: a slit whose two sides share their ends keeps its links).
+  // Returns whether they were freed. A finished region holds less while the
+  // others run. Until restore_links(), nothing else may use the mesh.
+  bool release_links();
+  void restore_links();
+  // Frees the links for good, of a mesh given away whose triangles are
+  // still to be read (to_mesh_data): nothing may walk it afterwards.
+  void discard_links() { std::vector<int>().swap(to_); }
+  bool links_released() const { return to_.size() != tv_.size(); }
   // Moves the live elements of `part` into this mesh (the regions of a
   // parallel pass pasted back): vertex v of part is vertex existing[v] of
   // this mesh when that is >= 0 (its data here stays), else a new one, which

@@ -14,6 +14,7 @@
 #include <future>
 
 #include "core/error.h"
+#include "core/huge_pages.h"
 #include "geometry/features.h"
 #include "geometry/normals.h"
 #include "geometry/parallel_chunks.h"
@@ -65,9 +66,16 @@ MetricField take_adapted_metric(SurfaceMesh& t1) {
     for (double lambda : t1.get_vertex_property<double>(kIsotropicMetricProperty).vector())
       m.push_back(SymTensor3::identity(lambda));
   } else {
+    // The packed factors' pages go back as they are read: the six doubles
+    // a vertex grow beside what is left of them, not beside all.
     const std::vector<PackedMetric>& packed = t1.get_vertex_property<PackedMetric>(kMetricProperty).vector();
     m.reserve(packed.size());
-    for (const PackedMetric& p : packed) m.push_back(p.unpack());
+    constexpr std::size_t kChunk = 1 << 14;
+    for (std::size_t begin = 0; begin < packed.size(); begin += kChunk) {
+      const std::size_t end = std::min(packed.size(), begin + kChunk);
+      for (std::size_t i = begin; i < end; ++i) m.push_back(packed[i].unpack());
+      release_pages(packed.data(), end * sizeof(PackedMetric));
+    }
   }
   t1.vertex_properties().remove(kIsotropicMetricProperty);
   t1.vertex_properties().remove(kMetricProperty);

@@ -9,6 +9,10 @@
 #include <span>
 #include <thread>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include "remesh/operators.h"
 #include "remesh/partition.h"
 
@@ -53,6 +57,7 @@ std::vector<PassReport> remesh_region(AdaptedMesh& whole, Region& r, GeometrySur
   if (r.mesh.n_vertices() < r.mesh.vertex_capacity() || r.mesh.n_triangles() < r.mesh.triangle_capacity())
     r.mesh.compact();
   r.mesh.shrink_to_fit();
+  r.mesh.release_links();  // found again at the paste
   return passes;
 }
 
@@ -231,6 +236,11 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     out.insert(out.end(), passes[static_cast<std::size_t>(k)].begin(), passes[static_cast<std::size_t>(k)].end());
   }
   std::vector<int>().swap(part);  // the band's own map replaces it
+#if defined(__GLIBC__)
+  // The regions' memory freed on their threads stays with those threads'
+  // arenas unless given back: the band and the output come next.
+  malloc_trim(0);
+#endif
   std::vector<int> band = band_around(mesh, seeds, p.band_rings);
   std::vector<Vertex>().swap(seeds);
   fill_pinched_fans(mesh, band);

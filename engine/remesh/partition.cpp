@@ -341,6 +341,7 @@ Region cut_region(const SurfaceMesh& whole, const std::vector<int>& part, int wh
 }
 
 void paste_region(SurfaceMesh& whole, std::vector<int>& part, int which, SurfaceMesh&& region) {
+  region.restore_links();
   auto in_region = [&](Triangle t) {
     return t.is_valid() && static_cast<std::size_t>(t.idx) < part.size() && part[static_cast<std::size_t>(t.idx)] == which;
   };

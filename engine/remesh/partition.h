@@ -69,7 +69,8 @@ Region cut_region(const SurfaceMesh& whole, const std::vector<int>& part, int wh
 // edges unchanged): the border vertices are the whole's again, the others
 // new, the border edges linked to the triangles outside. The new triangle
 // slots get part -1 (`part` grows with the slots). The region is consumed,
-// its arrays freed one by one as they are copied.
+// its arrays freed one by one as they are copied; its links may have been
+// released while it waited (SurfaceMesh::release_links).
 void paste_region(SurfaceMesh& whole, std::vector<int>& part, int which, SurfaceMesh&& region);
 
 }  // namespace anisurf::remesh
