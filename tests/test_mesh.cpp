@@ -494,7 +494,7 @@ TEST_CASE("absorb: another mesh moved in, free slots first, properties and tags 
     if (whole.position(v).x < 4) CHECK(label[v] == v.idx);
 }
 
-TEST_CASE("release_links: a waiting mesh gives its links back, found again identical; a slit keeps them") {
+TEST_CASE("release_links: a waiting mesh gives its links and vertex corners back, found again; a slit keeps them") {
   SurfaceMesh m;
   build_mesh(read_mesh_data(test::asset_file("demo.mesh")), m);
   // A hole, so that border edges and free slots are in the table too.
@@ -514,15 +514,41 @@ TEST_CASE("release_links: a waiting mesh gives its links back, found again ident
   REQUIRE(std::count(before.begin(), before.end(), -1) > 0);
 
   SUBCASE("links found again from the triangles alone") {
+    std::vector<int> border_corner;
+    for (Vertex u : m.vertices()) border_corner.push_back(m.is_boundary(u) ? m.corner(u).idx : -1);
     CHECK_FALSE(m.links_released());
+    CHECK(m.links_restorable());
     REQUIRE(m.release_links());
     CHECK(m.links_released());
     m.restore_links();
     CHECK_FALSE(m.links_released());
     require_valid(m);
     CHECK(opposites(m) == before);
+    // A border vertex's corner is the most clockwise one again.
+    std::size_t i = 0;
+    for (Vertex u : m.vertices()) {
+      if (border_corner[i] >= 0) CHECK(m.corner(u).idx == border_corner[i]);
+      ++i;
+    }
     m.restore_links();  // nothing to do
     CHECK(opposites(m) == before);
+  }
+  SUBCASE("compacted: the vertex corners are freed too and found again") {
+    m.compact();
+    const std::vector<int> compacted = opposites(m);
+    std::vector<int> corners;
+    for (Vertex u : m.vertices()) corners.push_back(m.corner(u).idx);
+    REQUIRE(m.release_links());
+    m.restore_links();
+    require_valid(m);
+    CHECK(opposites(m) == compacted);
+    std::size_t i = 0;
+    for (Vertex u : m.vertices()) {
+      const bool in_fan = std::ranges::any_of(m.fan(u), [&](Corner k) { return k.idx == corners[i]; });
+      CHECK(in_fan);
+      if (m.is_boundary(u)) CHECK(m.corner(u).idx == corners[i]);
+      ++i;
+    }
   }
   SUBCASE("a slit whose two sides share their ends keeps its links") {
     // Unlink one interior edge: its two sides run a->b and b->a, both on
@@ -536,8 +562,13 @@ TEST_CASE("release_links: a waiting mesh gives its links back, found again ident
     }
     REQUIRE(c.is_valid());
     const Corner o = m.opposite(c);
+    const Vertex a = m.edge_from(c), b = m.edge_to(c);
     m.link(c, Corner());
     m.link(o, Corner());
+    m.update_vertex_corner(a);
+    m.update_vertex_corner(b);
+    require_valid(m);
+    CHECK_FALSE(m.links_restorable());
     const std::vector<int> slit = opposites(m);
     CHECK_FALSE(m.release_links());
     CHECK_FALSE(m.links_released());

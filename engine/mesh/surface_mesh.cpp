@@ -326,6 +326,27 @@ void scatter_and_free(RefArray& into, std::size_t n, RefArray& from, const std::
   from.shrink_to_fit();
 }
 
+// The same for a per-corner array, the corners following their triangle's
+// slot (corner k of triangle t goes to corner k of triangle slot[t]).
+template <class T, class F>
+void scatter_corners_and_free(std::vector<T>& into, std::size_t n, std::vector<T>& from, const std::vector<int>& slot, F&& f) {
+  into.resize(n);
+  for (std::size_t t = 0; t < slot.size(); ++t)
+    if (slot[t] >= 0)
+      for (std::size_t k = 0; k < 3; ++k) into[3 * static_cast<std::size_t>(slot[t]) + k] = f(from[3 * t + k]);
+  std::vector<T>().swap(from);
+}
+
+void scatter_corners_and_free(RefArray& into, std::size_t n, RefArray& from, const std::vector<int>& slot) {
+  into.resize(n);
+  if (from.stored())
+    for (std::size_t t = 0; t < slot.size(); ++t)
+      if (slot[t] >= 0)
+        for (std::size_t k = 0; k < 3; ++k) into.set(3 * static_cast<std::size_t>(slot[t]) + k, from[3 * t + k]);
+  from.clear();
+  from.shrink_to_fit();
+}
+
 // The slot of each live element of a part (the free slots of `free` first,
 // then new ones from `next` on); -1 for the others.
 std::vector<int> assign_slots(const std::vector<char>& live, std::vector<int>& free, std::size_t& next) {
@@ -344,32 +365,63 @@ std::vector<int> assign_slots(const std::vector<char>& live, std::vector<int>& f
 
 }  // namespace
 
+bool SurfaceMesh::links_restorable() const {
+  // Around each vertex a: the edges leaving it (a -> b, opposite prev of
+  // the fan's corner) run to distinct vertices, so do the edges reaching it;
+  // a border edge leaving a has no edge reaching a from the same vertex.
+  std::vector<int> out, in;
+  for (Vertex a : vertices()) {
+    out.clear();
+    in.clear();
+    for (Corner k : fan_corners(a)) {
+      out.push_back(vertex(next(k)).idx);
+      in.push_back(vertex(prev(k)).idx);
+    }
+    for (std::size_t i = 0; i < out.size(); ++i)
+      for (std::size_t j = i + 1; j < out.size(); ++j)
+        if (out[i] == out[j] || in[i] == in[j]) return false;
+    std::size_t i = 0;
+    for (Corner k : fan_corners(a)) {
+      if (is_boundary_edge(prev(k)) && std::find(in.begin(), in.end(), out[i]) != in.end()) return false;
+      ++i;
+    }
+  }
+  return true;
+}
+
 bool SurfaceMesh::release_links() {
-  std::vector<int> links = std::move(to_);
-  to_.clear();
-  restore_links();
-  const bool same = to_ == links;
-  if (same) std::vector<int>().swap(to_);
-  else to_ = std::move(links);
-  return same;
+  if (links_released() || !links_restorable()) return false;
+  std::vector<int>().swap(to_);
+  if (free_vertices_.empty()) std::vector<int>().swap(vcorner_);
+  return true;
 }
 
 void SurfaceMesh::restore_links() {
-  if (!links_released()) return;
+  if (links_released()) rebuild_links();
+  if (vcorner_.size() != vpos_.size()) rebuild_vertex_corners();
+}
+
+void SurfaceMesh::rebuild_vertex_corners() {
+  vcorner_.assign(vpos_.size(), -1);
+  for (std::size_t c = 0; c < tv_.size(); ++c)
+    if (tv_[3 * (c / 3)] >= 0) vcorner_[static_cast<std::size_t>(tv_[c])] = static_cast<int>(c);
+  for (std::size_t v = 0; v < vpos_.size(); ++v) update_vertex_corner(Vertex(static_cast<int>(v)));
+}
+
+void SurfaceMesh::rebuild_links() {
   const std::size_t nc = tv_.size(), nv = vpos_.size();
   auto from = [&](std::size_t c) { return tv_[3 * (c / 3) + (c % 3 + 1) % 3]; };
   auto to = [&](std::size_t c) { return tv_[3 * (c / 3) + (c % 3 + 2) % 3]; };
-  // The corners by the first vertex of their edge.
+  // The corners by the first vertex of their edge, in increasing order:
+  // start[v] counts up to the end of v's run, then back down to its start
+  // as the corners are placed from the last one.
   std::vector<int> start(nv + 1, 0);
   for (std::size_t c = 0; c < nc; ++c)
-    if (tv_[3 * (c / 3)] >= 0) ++start[static_cast<std::size_t>(from(c)) + 1];
+    if (tv_[3 * (c / 3)] >= 0) ++start[static_cast<std::size_t>(from(c))];
   for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
   std::vector<int> corners(static_cast<std::size_t>(start[nv]));
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (std::size_t c = 0; c < nc; ++c)
-      if (tv_[3 * (c / 3)] >= 0) corners[static_cast<std::size_t>(fill[static_cast<std::size_t>(from(c))]++)] = static_cast<int>(c);
-  }
+  for (std::size_t c = nc; c-- > 0;)
+    if (tv_[3 * (c / 3)] >= 0) corners[static_cast<std::size_t>(--start[static_cast<std::size_t>(from(c))])] = static_cast<int>(c);
   to_.assign(nc, -1);
   for (std::size_t c = 0; c < nc; ++c) {
     if (tv_[3 * (c / 3)] < 0 || to_[c] >= 0) continue;
@@ -388,23 +440,24 @@ AbsorbMap SurfaceMesh::absorb(SurfaceMesh&& part, const std::vector<int>& existi
   const std::size_t pv = part.vpos_.size(), pt = part.tv_.size() / 3;
   AbsorbMap map;
   // Slots: the new vertices and the triangles; existing vertices keep theirs.
-  std::vector<char> live(pv, 0);
+  // 1: a new vertex; 2: one of this mesh already (existing); 0: deleted.
+  std::vector<char> kind(pv, 0);
   for (std::size_t v = 0; v < pv; ++v)
-    live[v] = part.vcorner_[v] != kDeletedMark && !(v < existing.size() && existing[v] >= 0);
+    if (part.vcorner_[v] != kDeletedMark) kind[v] = v < existing.size() && existing[v] >= 0 ? 2 : 1;
+  std::vector<char> live(pv, 0);
+  for (std::size_t v = 0; v < pv; ++v) live[v] = kind[v] == 1;
   std::size_t nv = vpos_.size();
-  const std::vector<int> new_vertex = assign_slots(live, free_vertices_, nv);
-  map.vertex = new_vertex;
-  for (std::size_t v = 0; v < pv && v < existing.size(); ++v)
-    if (existing[v] >= 0 && part.vcorner_[v] != kDeletedMark) map.vertex[v] = existing[v];
+  std::vector<int> new_vertex = assign_slots(live, free_vertices_, nv);
   live.assign(pt, 0);
   for (std::size_t t = 0; t < pt; ++t) live[t] = part.tv_[3 * t] >= 0;
   std::size_t nt = tv_.size() / 3;
   map.triangle = assign_slots(live, free_triangles_, nt);
-  std::vector<int> corner_slot(3 * pt, -1);
-  for (std::size_t t = 0; t < pt; ++t)
-    if (map.triangle[t] >= 0)
-      for (int k = 0; k < 3; ++k) corner_slot[3 * t + k] = 3 * map.triangle[t] + k;
-  const auto corner_of = [&](int c) { return c < 0 ? -1 : corner_slot[static_cast<std::size_t>(c)]; };
+  std::vector<char>().swap(live);
+  const auto corner_of = [&](int c) {
+    if (c < 0) return -1;
+    const int t = map.triangle[static_cast<std::size_t>(c / 3)];
+    return t < 0 ? -1 : 3 * t + c % 3;
+  };
   const auto same = [](auto x) { return x; };
 
   // Vertices, one array at a time.
@@ -413,11 +466,15 @@ AbsorbMap SurfaceMesh::absorb(SurfaceMesh&& part, const std::vector<int>& existi
   scatter_and_free(vtag_, nv, part.vtag_, new_vertex, same);
   scatter_and_free(vref_, nv, part.vref_, new_vertex);
   vprops_.absorb(part.vprops_, new_vertex, nv);
+  // The part's vertices that are this mesh's already keep their slot.
+  map.vertex = std::move(new_vertex);
+  for (std::size_t v = 0; v < pv; ++v)
+    if (kind[v] == 2) map.vertex[v] = existing[v];
   // Triangles and their corners.
-  scatter_and_free(tv_, 3 * nt, part.tv_, corner_slot, [&](int v) { return map.vertex[static_cast<std::size_t>(v)]; });
-  scatter_and_free(to_, 3 * nt, part.to_, corner_slot, corner_of);
-  scatter_and_free(etag_, 3 * nt, part.etag_, corner_slot, same);
-  scatter_and_free(eref_, 3 * nt, part.eref_, corner_slot);
+  scatter_corners_and_free(tv_, 3 * nt, part.tv_, map.triangle, [&](int v) { return map.vertex[static_cast<std::size_t>(v)]; });
+  scatter_corners_and_free(to_, 3 * nt, part.to_, map.triangle, corner_of);
+  scatter_corners_and_free(etag_, 3 * nt, part.etag_, map.triangle, same);
+  scatter_corners_and_free(eref_, 3 * nt, part.eref_, map.triangle);
   scatter_and_free(ttag_, nt, part.ttag_, map.triangle, same);
   scatter_and_free(tref_, nt, part.tref_, map.triangle);
   tprops_.absorb(part.tprops_, map.triangle, nt);

@@ -394,18 +394,25 @@ class SurfaceMesh {
   void delete_vertex(Vertex v);      // pre: no live triangle uses v
   // Removes deleted slots; returns the renumbering. Properties follow.
   CompactMap compact();
-  // Frees the opposite links (12 bytes a triangle) of a mesh that only
-  // waits, when restore_links() finds them all again from the triangles
-  // alone (a corner's opposite is the corner whose edge runs the other way;
-  // checked here: a slit whose two sides share their ends keeps its links).
-  // Returns whether they were freed. A finished region holds less while the
-  // others run. Until restore_links(), nothing else may use the mesh.
+  // Frees the opposite links (12 bytes a triangle) and, when no vertex slot
+  // is free, the vertex corners (4 bytes a vertex) of a mesh that only
+  // waits, when restore_links() finds the links all again from the
+  // triangles alone: a corner's opposite is the corner whose edge runs the
+  // other way, so no two edges around a vertex may run to the same vertex in
+  // the same direction, nor a border edge have its reverse (a slit whose two
+  // sides share their ends keeps its links). Checked on the fans, with no
+  // copy. Returns whether they were freed. A finished region holds less
+  // while the others run. Until restore_links(), nothing else may use the
+  // mesh; after it, the links are the same and each vertex corner is one of
+  // the vertex's fan (the most clockwise on a border, as always).
   bool release_links();
   void restore_links();
   // Frees the links for good, of a mesh given away whose triangles are
   // still to be read (to_mesh_data): nothing may walk it afterwards.
   void discard_links() { std::vector<int>().swap(to_); }
   bool links_released() const { return to_.size() != tv_.size(); }
+  // True when restore_links() would give back exactly the links there are.
+  bool links_restorable() const;
   // Moves the live elements of `part` into this mesh (the regions of a
   // parallel pass pasted back): vertex v of part is vertex existing[v] of
   // this mesh when that is >= 0 (its data here stays), else a new one, which
@@ -477,6 +484,10 @@ class SurfaceMesh {
 
  private:
   void push_vertex_slot();
+  // The links found again from the triangles (restore_links).
+  void rebuild_links();
+  // A corner of each vertex's fan, the most clockwise on a border.
+  void rebuild_vertex_corners();
   void push_triangle_slot();
 
   // vertices

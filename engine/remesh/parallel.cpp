@@ -57,7 +57,6 @@ std::vector<PassReport> remesh_region(AdaptedMesh& whole, Region& r, GeometrySur
   if (r.mesh.n_vertices() < r.mesh.vertex_capacity() || r.mesh.n_triangles() < r.mesh.triangle_capacity())
     r.mesh.compact();
   r.mesh.shrink_to_fit();
-  r.mesh.release_links();  // found again at the paste
   return passes;
 }
 
@@ -192,6 +191,7 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
       o.max_round_vertices = region_limit(options.max_round_vertices, share);
       o.reserve_share = share;
       passes[i] = remesh_region(m, regions[i], *geometry, *control, o, k, serial_progress);
+      set_aside(regions[i]);  // smaller while the others run
     } catch (...) {
       errors[i] = std::current_exception();
     }
@@ -231,7 +231,7 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
   for (int k = 0; k < n; ++k) {
     Region& r = regions[static_cast<std::size_t>(k)];
     seeds.insert(seeds.end(), r.border.begin(), r.border.end());
-    paste_region(mesh, part, k, std::move(r.mesh));
+    paste_region(mesh, part, k, std::move(r));
     r = Region{};
     out.insert(out.end(), passes[static_cast<std::size_t>(k)].begin(), passes[static_cast<std::size_t>(k)].end());
   }
@@ -258,7 +258,7 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     return out;
   }
   agree_on_metric_storage(m, std::span<Region>(&b, 1));
-  paste_region(mesh, band, 0, std::move(b.mesh));
+  paste_region(mesh, band, 0, std::move(b));
   out.insert(out.end(), band_passes.begin(), band_passes.end());
   return out;
 }

@@ -263,20 +263,21 @@ Region cut_region(const SurfaceMesh& whole, const std::vector<int>& part, int wh
   const auto vpairs = r.vertex_properties().pairs_with(whole.vertex_properties());
   const auto tpairs = r.triangle_properties().pairs_with(whole.triangle_properties());
 
-  // Triangles, in the whole's order.
-  std::vector<int> local(static_cast<std::size_t>(whole.triangle_capacity()), -1);
+  // Triangles, in the whole's order: the region's triangle i is origin[i],
+  // found again by a binary search (no array the size of the whole).
   std::vector<Triangle> origin;
   for (Triangle t : whole.triangles()) {
     if (!in_region(t)) continue;
     const Triangle rt = r.allocate_triangle();
-    local[static_cast<std::size_t>(t.idx)] = rt.idx;
     origin.push_back(t);
     r.set_triangle_tags(rt, whole.triangle_tags(t));
     r.set_triangle_ref(rt, whole.triangle_ref(t));
     PropertyContainer::copy_entry(tpairs, static_cast<std::size_t>(t.idx), static_cast<std::size_t>(rt.idx));
   }
   auto local_corner = [&](Corner wc) {
-    return Corner(3 * local[static_cast<std::size_t>(M::triangle(wc).idx)] + M::local_index(wc));
+    const Triangle t = M::triangle(wc);
+    const auto i = std::lower_bound(origin.begin(), origin.end(), t, [](Triangle a, Triangle b) { return a.idx < b.idx; }) - origin.begin();
+    return Corner(3 * static_cast<int>(i) + M::local_index(wc));
   };
 
   // Vertices: one per fan of region triangles around a whole vertex (the
@@ -340,7 +341,19 @@ Region cut_region(const SurfaceMesh& whole, const std::vector<int>& part, int wh
   return out;
 }
 
-void paste_region(SurfaceMesh& whole, std::vector<int>& part, int which, SurfaceMesh&& region) {
+void set_aside(Region& r) {
+  // The origins first: the vertices are walked with their corners.
+  if (const Property<int> origin_of = r.mesh.get_vertex_property<int>(kRegionOriginProperty)) {
+    for (Vertex v : r.mesh.vertices())
+      if (origin_of[v] >= 0) r.origins.push_back({v.idx, origin_of[v]});
+    r.origins.shrink_to_fit();
+    r.mesh.vertex_properties().remove(kRegionOriginProperty);
+  }
+  r.mesh.release_links();
+}
+
+void paste_region(SurfaceMesh& whole, std::vector<int>& part, int which, Region&& r) {
+  SurfaceMesh& region = r.mesh;
   region.restore_links();
   auto in_region = [&](Triangle t) {
     return t.is_valid() && static_cast<std::size_t>(t.idx) < part.size() && part[static_cast<std::size_t>(t.idx)] == which;
@@ -381,6 +394,8 @@ void paste_region(SurfaceMesh& whole, std::vector<int>& part, int which, Surface
   std::vector<int> existing(static_cast<std::size_t>(region.vertex_capacity()), -1);
   if (origin_of)
     for (Vertex v : region.vertices()) existing[static_cast<std::size_t>(v.idx)] = origin_of[v];
+  for (const auto& [v, w] : r.origins) existing[static_cast<std::size_t>(v)] = w;
+  std::vector<std::array<int, 2>>().swap(r.origins);
   const AbsorbMap map = whole.absorb(std::move(region), existing);
 
   // The border edges linked to the triangles outside; the fans set again.

@@ -9,8 +9,10 @@
 //   std::vector<int> part = partition_triangles(adapted, 4);
 //   Region r = cut_region(adapted.mesh(), part, 2);
 //   ... remesh r.mesh ...
-//   paste_region(adapted.mesh(), part, 2, r.mesh);
+//   set_aside(r);  // optional: smaller while it waits
+//   paste_region(adapted.mesh(), part, 2, std::move(r));
 #pragma once
+#include <array>
 #include <vector>
 
 #include "remesh/adapted_mesh.h"
@@ -57,20 +59,27 @@ struct Region {
   SurfaceMesh mesh;
   // The whole's vertices on the border, once each.
   std::vector<Vertex> border;
+  // Once set aside: the (region vertex, whole vertex) pairs that the mesh's
+  // kRegionOriginProperty held, for its vertices that have an origin.
+  std::vector<std::array<int, 2>> origins;
 };
 
 // Cuts the triangles t with part[t] == which out of `whole` (a copy; whole
 // is unchanged).
 Region cut_region(const SurfaceMesh& whole, const std::vector<int>& part, int which);
 
+// A finished region made smaller while it waits for its paste: its links
+// and vertex corners released (SurfaceMesh::release_links), its origin
+// property (4 bytes a vertex) turned into the list of the border's origins.
+void set_aside(Region& r);
+
 // Replaces the triangles t with part[t] == which in `whole`, and the
 // vertices only they used, by the triangles and vertices of `region` (cut
 // from it with the same `part` and remeshed since, its border vertices and
-// edges unchanged): the border vertices are the whole's again, the others
-// new, the border edges linked to the triangles outside. The new triangle
-// slots get part -1 (`part` grows with the slots). The region is consumed,
-// its arrays freed one by one as they are copied; its links may have been
-// released while it waited (SurfaceMesh::release_links).
-void paste_region(SurfaceMesh& whole, std::vector<int>& part, int which, SurfaceMesh&& region);
+// edges unchanged, possibly set aside): the border vertices are the whole's
+// again, the others new, the border edges linked to the triangles outside.
+// The new triangle slots get part -1 (`part` grows with the slots). The
+// region is consumed, its arrays freed one by one as they are copied.
+void paste_region(SurfaceMesh& whole, std::vector<int>& part, int which, Region&& region);
 
 }  // namespace anisurf::remesh
