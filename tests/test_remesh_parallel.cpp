@@ -4,6 +4,9 @@
 // output depends on the thread count only, and required edges stay.
 #include <doctest/doctest.h>
 
+#include <cmath>
+#include <stdexcept>
+
 #include <algorithm>
 #include <memory>
 #include <set>
@@ -201,6 +204,46 @@ TEST_CASE("region count: a coarsening takes more regions per thread than a refin
     p.min_round_work = work / 100;  // work enough for as many regions as allowed
     CHECK(region_count(*s->adapted, p) == 2 * (coarsening ? p.coarsening_regions_per_thread : p.regions_per_thread));
   }
+}
+
+TEST_CASE("region shares: later rounds of a refinement smaller, equal for a coarsening; the partition follows them") {
+  for (double size : {0.05, 2.0}) {
+    CAPTURE(size);
+    auto s = make_setup(test::asset_file("demo.mesh"), size);
+    const bool coarsening = size > 1.0;
+    ParallelOptions p;
+    p.threads = 2;
+    const std::vector<double> shares = region_shares(*s->adapted, p, 6);
+    REQUIRE(shares.size() == 6);
+    double sum = 0;
+    for (double x : shares) sum += x;
+    CHECK(sum == doctest::Approx(1.0));
+    for (int k = 0; k < 6; ++k) {
+      // The same share in a round; each round later_round_share of the last (a refinement).
+      const double expected = coarsening ? shares[0] : shares[0] * std::pow(p.later_round_share, k / 2);
+      CHECK(shares[static_cast<std::size_t>(k)] == doctest::Approx(expected));
+    }
+    // One round: equal shares.
+    const std::vector<double> one = region_shares(*s->adapted, p, 2);
+    CHECK(one[0] == doctest::Approx(0.5));
+    CHECK(one[1] == doctest::Approx(0.5));
+  }
+  // The regions' predicted work is in proportion to the shares asked.
+  auto s = make_setup(test::asset_file("demo.mesh"), 0.05);
+  const std::vector<double> asked = {0.4, 0.3, 0.2, 0.1};
+  const std::vector<int> part = partition_triangles(*s->adapted, 4, asked);
+  std::vector<double> work(4, 0.0);
+  double total = 0;
+  for (Triangle t : s->adapted->mesh().triangles()) {
+    const int k = part[static_cast<std::size_t>(t.idx)];
+    REQUIRE(k >= 0);
+    REQUIRE(k < 4);
+    const double w = triangle_work(*s->adapted, t);
+    work[static_cast<std::size_t>(k)] += w;
+    total += w;
+  }
+  for (int k = 0; k < 4; ++k) CHECK(work[static_cast<std::size_t>(k)] / total == doctest::Approx(asked[static_cast<std::size_t>(k)]).epsilon(0.05));
+  CHECK_THROWS_AS(partition_triangles(*s->adapted, 4, {0.5, 0.5}), std::invalid_argument);
 }
 
 TEST_CASE("remesh: a required edge is neither split, collapsed nor swapped") {

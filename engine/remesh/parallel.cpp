@@ -126,15 +126,51 @@ int refine_borders(AdaptedMesh& m, std::vector<int>& part, const OperatorOptions
 
 }  // namespace
 
-int region_count(const AdaptedMesh& m, const ParallelOptions& p) {
-  if (p.threads <= 1) return 1;
+namespace {
+
+// The memory freed since on every arena given back to the system. A
+// region's arrays were allocated on its thread, whose arena keeps what is
+// freed from it (only the main arena gives back its top by itself): a
+// pasted region would stay resident beside the whole that grows with it.
+void give_back_freed_memory() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
+}
+
+double total_work(const AdaptedMesh& m) {
   double work = 0;
   for (Triangle t : m.mesh().triangles()) work += triangle_work(m, t);
+  return work;
+}
+
+// triangle_work is 1 per triangle held plus the triangles it will hold: a
+// coarsening predicts fewer than half the triangles there are.
+bool is_coarsening(const AdaptedMesh& m, double work) {
+  const double input = m.mesh().n_triangles();
+  return work - input < 0.5 * input;
+}
+
+}  // namespace
+
+std::vector<double> region_shares(const AdaptedMesh& m, const ParallelOptions& p, int n) {
+  const int threads = std::max(p.threads, 1);
+  const bool equal = n <= threads || !(p.later_round_share > 0) || p.later_round_share == 1 || is_coarsening(m, total_work(m));
+  std::vector<double> shares(static_cast<std::size_t>(std::max(n, 0)), 1.0);
+  if (!equal)
+    for (int k = 0; k < n; ++k) shares[static_cast<std::size_t>(k)] = std::pow(p.later_round_share, k / threads);
+  double sum = 0;
+  for (double s : shares) sum += s;
+  for (double& s : shares) s /= sum;
+  return shares;
+}
+
+int region_count(const AdaptedMesh& m, const ParallelOptions& p) {
+  if (p.threads <= 1) return 1;
+  const double work = total_work(m);
   const int one_round = std::clamp(static_cast<int>(work / std::max(p.min_region_work, 1.0)), 1, p.threads);
   if (one_round < p.threads) return one_round;
-  // triangle_work is 1 per triangle held plus the triangles it will hold.
-  const double input = m.mesh().n_triangles();
-  const bool coarsening = work - input < 0.5 * input;
+  const bool coarsening = is_coarsening(m, work);
   const int per_thread = coarsening ? p.coarsening_regions_per_thread : p.regions_per_thread;
   const int n = std::clamp(static_cast<int>(work / std::max(p.min_round_work, 1.0)), p.threads,
                            p.threads * std::max(per_thread, 1));
@@ -151,7 +187,7 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     Remesher remesher(m, options);
     return remesher.run(progress);
   }
-  std::vector<int> part = partition_triangles(m, n);
+  std::vector<int> part = partition_triangles(m, n, region_shares(m, p, n));
   refine_borders(m, part, options.op);
   for (int k = 0; k < n; ++k) drop_pinched_fans(m.mesh(), part, k);
   // The triangles left out of every region go to the band (their vertices
@@ -233,14 +269,10 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     seeds.insert(seeds.end(), r.border.begin(), r.border.end());
     paste_region(mesh, part, k, std::move(r));
     r = Region{};
+    give_back_freed_memory();
     out.insert(out.end(), passes[static_cast<std::size_t>(k)].begin(), passes[static_cast<std::size_t>(k)].end());
   }
   std::vector<int>().swap(part);  // the band's own map replaces it
-#if defined(__GLIBC__)
-  // The regions' memory freed on their threads stays with those threads'
-  // arenas unless given back: the band and the output come next.
-  malloc_trim(0);
-#endif
   std::vector<int> band = band_around(mesh, seeds, p.band_rings);
   std::vector<Vertex>().swap(seeds);
   fill_pinched_fans(mesh, band);

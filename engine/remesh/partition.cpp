@@ -1,6 +1,7 @@
 #include "remesh/partition.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <cmath>
 #include <cstdint>
 #include <exception>
@@ -68,7 +69,8 @@ std::size_t weighted_cut(std::vector<Keyed>& k, const std::vector<double>& weigh
 // the left regions get. The two sides of a large range are split on two
 // threads.
 void bisect(std::vector<int>& ids, std::size_t first, std::size_t last, int parts, int first_part,
-            const std::vector<Vec3>& centre, const std::vector<double>& weight, std::vector<int>& part) {
+            const std::vector<Vec3>& centre, const std::vector<double>& weight, const std::vector<double>& shares,
+            std::vector<int>& part) {
   if (parts <= 1 || last - first <= 1) {
     for (std::size_t i = first; i < last; ++i) part[static_cast<std::size_t>(ids[i])] = first_part;
     return;
@@ -88,10 +90,17 @@ void bisect(std::vector<int>& ids, std::size_t first, std::size_t last, int part
     total += weight[t];
   }
   const int left_parts = parts / 2;
-  const std::size_t cut = first + std::max<std::size_t>(weighted_cut(keyed, weight, total * left_parts / parts), 1);
+  auto share = [&](int from, int count) {
+    if (shares.empty()) return static_cast<double>(count);
+    double sum = 0;
+    for (int k = from; k < from + count; ++k) sum += shares[static_cast<std::size_t>(k)];
+    return sum;
+  };
+  const double left_share = share(first_part, left_parts) / share(first_part, parts);
+  const std::size_t cut = first + std::max<std::size_t>(weighted_cut(keyed, weight, total * left_share), 1);
   for (std::size_t i = first; i < last; ++i) ids[i] = keyed[i - first].id;
   keyed = {};
-  auto left = [&] { bisect(ids, first, cut, left_parts, first_part, centre, weight, part); };
+  auto left = [&] { bisect(ids, first, cut, left_parts, first_part, centre, weight, shares, part); };
   if (last - first >= 100000 && available_threads() > 1) {
     std::exception_ptr error;
     std::thread t([&] {
@@ -102,7 +111,7 @@ void bisect(std::vector<int>& ids, std::size_t first, std::size_t last, int part
       }
     });
     try {
-      bisect(ids, cut, last, parts - left_parts, first_part + left_parts, centre, weight, part);
+      bisect(ids, cut, last, parts - left_parts, first_part + left_parts, centre, weight, shares, part);
     } catch (...) {
       t.join();
       throw;
@@ -111,7 +120,7 @@ void bisect(std::vector<int>& ids, std::size_t first, std::size_t last, int part
     if (error) std::rethrow_exception(error);
   } else {
     left();
-    bisect(ids, cut, last, parts - left_parts, first_part + left_parts, centre, weight, part);
+    bisect(ids, cut, last, parts - left_parts, first_part + left_parts, centre, weight, shares, part);
   }
 }
 
@@ -133,7 +142,9 @@ double triangle_work(const AdaptedMesh& m, Triangle t) {
   return std::isfinite(w) ? w : 1.0;
 }
 
-std::vector<int> partition_triangles(const AdaptedMesh& m, int parts) {
+std::vector<int> partition_triangles(const AdaptedMesh& m, int parts, const std::vector<double>& shares) {
+  if (!shares.empty() && shares.size() != static_cast<std::size_t>(parts))
+    throw std::invalid_argument("partition_triangles: one share per region expected");
   const SurfaceMesh& mesh = m.mesh();
   const auto n = static_cast<std::size_t>(mesh.triangle_capacity());
   std::vector<int> part(n, -1), ids;
@@ -149,7 +160,7 @@ std::vector<int> partition_triangles(const AdaptedMesh& m, int parts) {
       weight[static_cast<std::size_t>(t.idx)] = triangle_work(m, t);
     }
   });
-  bisect(ids, 0, ids.size(), std::max(parts, 1), 0, centre, weight, part);
+  bisect(ids, 0, ids.size(), std::max(parts, 1), 0, centre, weight, shares, part);
   return part;
 }
 

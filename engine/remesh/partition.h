@@ -30,10 +30,12 @@ inline constexpr const char* kRegionOriginProperty = "partition:origin";
 double triangle_work(const AdaptedMesh& m, Triangle t);
 
 // The region of every triangle slot (-1 for deleted slots): `parts` regions
-// of about equal triangle_work, by recursive bisection of the triangles'
-// centroids at the weighted median along the longest side of their box
-// (a function of the mesh and `parts` only). Regions need not be connected.
-std::vector<int> partition_triangles(const AdaptedMesh& m, int parts);
+// of about equal triangle_work, or of work in proportion to `shares` (one
+// per region) when given, by recursive bisection of the triangles'
+// centroids at the weighted quantile along the longest side of their box
+// (a function of the mesh, `parts` and `shares` only). Regions need not be
+// connected.
+std::vector<int> partition_triangles(const AdaptedMesh& m, int parts, const std::vector<double>& shares = {});
 
 // The triangles within `rings` edge rings of the vertices `seeds`: region 0,
 // the others -1 (the band remeshed after the regions, around their borders).
