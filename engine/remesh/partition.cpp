@@ -1,6 +1,7 @@
 #include "remesh/partition.h"
 
 #include <algorithm>
+#include <bit>
 #include <stdexcept>
 #include <cmath>
 #include <cstdint>
@@ -275,20 +276,26 @@ Region cut_region(const SurfaceMesh& whole, const std::vector<int>& part, int wh
   const auto tpairs = r.triangle_properties().pairs_with(whole.triangle_properties());
 
   // Triangles, in the whole's order: the region's triangle i is origin[i],
-  // found again by a binary search (no array the size of the whole).
+  // and a whole triangle's rank among the region's is found from one bit a
+  // slot and a count every 64 (no int array the size of the whole).
   std::vector<Triangle> origin;
+  const auto words = static_cast<std::size_t>(whole.triangle_capacity() + 63) / 64;
+  std::vector<std::uint64_t> in_bits(words, 0);
+  std::vector<int> rank_before(words, 0);
   for (Triangle t : whole.triangles()) {
     if (!in_region(t)) continue;
     const Triangle rt = r.allocate_triangle();
     origin.push_back(t);
+    in_bits[static_cast<std::size_t>(t.idx) / 64] |= std::uint64_t{1} << (t.idx % 64);
     r.set_triangle_tags(rt, whole.triangle_tags(t));
     r.set_triangle_ref(rt, whole.triangle_ref(t));
     PropertyContainer::copy_entry(tpairs, static_cast<std::size_t>(t.idx), static_cast<std::size_t>(rt.idx));
   }
+  for (std::size_t w = 1; w < words; ++w) rank_before[w] = rank_before[w - 1] + std::popcount(in_bits[w - 1]);
   auto local_corner = [&](Corner wc) {
-    const Triangle t = M::triangle(wc);
-    const auto i = std::lower_bound(origin.begin(), origin.end(), t, [](Triangle a, Triangle b) { return a.idx < b.idx; }) - origin.begin();
-    return Corner(3 * static_cast<int>(i) + M::local_index(wc));
+    const auto t = static_cast<std::size_t>(M::triangle(wc).idx);
+    const std::uint64_t below = in_bits[t / 64] & ((std::uint64_t{1} << (t % 64)) - 1);
+    return Corner(3 * (rank_before[t / 64] + std::popcount(below)) + M::local_index(wc));
   };
 
   // Vertices: one per fan of region triangles around a whole vertex (the
