@@ -235,6 +235,53 @@ std::vector<Vertex> region_vertices(const SurfaceMesh& m, const std::vector<int>
   return out;
 }
 
+// The corners of the vertices of the new triangles (slots `added`, -1 for
+// none), each of which was just set to its last corner in them: the most
+// clockwise one on a border; inside, that corner turned counter-clockwise
+// once per corner of the vertex in the new triangles (the turn of
+// SurfaceMesh::update_vertex_corner called for each of them, which the
+// outputs have always followed), found with one walk of each fan.
+void settle_vertex_corners(SurfaceMesh& whole, const std::vector<int>& added) {
+  std::vector<std::uint64_t> is_new(static_cast<std::size_t>(whole.triangle_capacity() + 63) / 64, 0);
+  for (int w : added)
+    if (w >= 0) is_new[static_cast<std::size_t>(w) / 64] |= std::uint64_t{1} << (w % 64);
+  auto added_triangle = [&](Corner c) {
+    const auto t = static_cast<std::size_t>(M::triangle(c).idx);
+    return (is_new[t / 64] >> (t % 64)) & 1;
+  };
+  std::vector<std::uint64_t> done(static_cast<std::size_t>(whole.vertex_capacity() + 63) / 64, 0);
+  for (int w : added) {
+    if (w < 0) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Vertex v = whole.vertex(M::corner(Triangle(w), k));
+      const auto i = static_cast<std::size_t>(v.idx);
+      if ((done[i / 64] >> (i % 64)) & 1) continue;
+      done[i / 64] |= std::uint64_t{1} << (i % 64);
+      const Corner start = whole.corner(v);
+      int fan = 0, turns = 0;
+      bool open = false;
+      for (Corner c = start;;) {
+        ++fan;
+        turns += added_triangle(c) ? 1 : 0;
+        const Corner n = whole.swing_ccw(c);
+        if (!n.is_valid()) {
+          open = true;
+          break;
+        }
+        if (n == start) break;
+        c = n;
+      }
+      if (open) {
+        whole.update_vertex_corner(v);
+        continue;
+      }
+      Corner c = start;
+      for (int t = 0; t < turns % fan; ++t) c = whole.swing_ccw(c);
+      whole.set_vertex_corner(v, c);
+    }
+  }
+}
+
 }  // namespace
 
 void drop_pinched_fans(const SurfaceMesh& m, std::vector<int>& part, int which) {
@@ -436,9 +483,7 @@ void paste_region(SurfaceMesh& whole, std::vector<int>& part, int which, Region&
         const Corner wc = M::corner(Triangle(w), k);
         whole.set_vertex_corner(whole.vertex(wc), wc);
       }
-  for (int w : map.triangle)
-    if (w >= 0)
-      for (int k = 0; k < 3; ++k) whole.update_vertex_corner(whole.vertex(M::corner(Triangle(w), k)));
+  settle_vertex_corners(whole, map.triangle);
   part.resize(static_cast<std::size_t>(whole.triangle_capacity()), -1);
   for (int w : map.triangle)
     if (w >= 0) part[static_cast<std::size_t>(w)] = -1;
