@@ -124,10 +124,6 @@ int refine_borders(AdaptedMesh& m, std::vector<int>& part, const OperatorOptions
   return total;
 }
 
-}  // namespace
-
-namespace {
-
 // The memory freed since on every arena given back to the system. A
 // region's arrays were allocated on its thread, whose arena keeps what is
 // freed from it (only the main arena gives back its top by itself): a
@@ -151,11 +147,11 @@ bool is_coarsening(const AdaptedMesh& m, double work) {
   return work - input < 0.5 * input;
 }
 
-}  // namespace
-
-std::vector<double> region_shares(const AdaptedMesh& m, const ParallelOptions& p, int n) {
+// region_shares and region_count for a mesh of predicted work `work`
+// (total_work: one pass over the triangles, made once by run_in_regions).
+std::vector<double> shares_for(const AdaptedMesh& m, const ParallelOptions& p, int n, double work) {
   const int threads = std::max(p.threads, 1);
-  const bool equal = n <= threads || !(p.later_round_share > 0) || p.later_round_share == 1 || is_coarsening(m, total_work(m));
+  const bool equal = n <= threads || !(p.later_round_share > 0) || p.later_round_share == 1 || is_coarsening(m, work);
   std::vector<double> shares(static_cast<std::size_t>(std::max(n, 0)), 1.0);
   if (!equal)
     for (int k = 0; k < n; ++k) shares[static_cast<std::size_t>(k)] = std::pow(p.later_round_share, k / threads);
@@ -165,9 +161,8 @@ std::vector<double> region_shares(const AdaptedMesh& m, const ParallelOptions& p
   return shares;
 }
 
-int region_count(const AdaptedMesh& m, const ParallelOptions& p) {
+int count_for(const AdaptedMesh& m, const ParallelOptions& p, double work) {
   if (p.threads <= 1) return 1;
-  const double work = total_work(m);
   const int one_round = std::clamp(static_cast<int>(work / std::max(p.min_region_work, 1.0)), 1, p.threads);
   if (one_round < p.threads) return one_round;
   const bool coarsening = is_coarsening(m, work);
@@ -180,14 +175,25 @@ int region_count(const AdaptedMesh& m, const ParallelOptions& p) {
   return n / p.threads * p.threads;
 }
 
+}  // namespace
+
+std::vector<double> region_shares(const AdaptedMesh& m, const ParallelOptions& p, int n) {
+  return shares_for(m, p, n, total_work(m));
+}
+
+int region_count(const AdaptedMesh& m, const ParallelOptions& p) {
+  return p.threads <= 1 ? 1 : count_for(m, p, total_work(m));
+}
+
 std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& options, const ParallelOptions& p,
                                        const std::function<void(const PassReport&)>& progress) {
-  const int n = region_count(m, p);
+  const double predicted = p.threads <= 1 ? 0.0 : total_work(m);
+  const int n = count_for(m, p, predicted);
   if (n <= 1) {
     Remesher remesher(m, options);
     return remesher.run(progress);
   }
-  std::vector<int> part = partition_triangles(m, n, region_shares(m, p, n));
+  std::vector<int> part = partition_triangles(m, n, shares_for(m, p, n, predicted));
   refine_borders(m, part, options.op);
   for (int k = 0; k < n; ++k) drop_pinched_fans(m.mesh(), part, k);
   // The triangles left out of every region go to the band (their vertices

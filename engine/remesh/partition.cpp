@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <bit>
-#include <stdexcept>
 #include <cmath>
 #include <cstdint>
 #include <exception>
+#include <stdexcept>
 #include <numeric>
 #include <thread>
 #include <utility>
@@ -242,27 +242,22 @@ std::vector<Vertex> region_vertices(const SurfaceMesh& m, const std::vector<int>
 // SurfaceMesh::update_vertex_corner called for each of them, which the
 // outputs have always followed), found with one walk of each fan.
 void settle_vertex_corners(SurfaceMesh& whole, const std::vector<int>& added) {
-  std::vector<std::uint64_t> is_new(static_cast<std::size_t>(whole.triangle_capacity() + 63) / 64, 0);
+  std::vector<bool> is_new(static_cast<std::size_t>(whole.triangle_capacity()), false);
   for (int w : added)
-    if (w >= 0) is_new[static_cast<std::size_t>(w) / 64] |= std::uint64_t{1} << (w % 64);
-  auto added_triangle = [&](Corner c) {
-    const auto t = static_cast<std::size_t>(M::triangle(c).idx);
-    return (is_new[t / 64] >> (t % 64)) & 1;
-  };
-  std::vector<std::uint64_t> done(static_cast<std::size_t>(whole.vertex_capacity() + 63) / 64, 0);
+    if (w >= 0) is_new[static_cast<std::size_t>(w)] = true;
+  std::vector<bool> done(static_cast<std::size_t>(whole.vertex_capacity()), false);
   for (int w : added) {
     if (w < 0) continue;
     for (int k = 0; k < 3; ++k) {
       const Vertex v = whole.vertex(M::corner(Triangle(w), k));
-      const auto i = static_cast<std::size_t>(v.idx);
-      if ((done[i / 64] >> (i % 64)) & 1) continue;
-      done[i / 64] |= std::uint64_t{1} << (i % 64);
+      if (done[static_cast<std::size_t>(v.idx)]) continue;
+      done[static_cast<std::size_t>(v.idx)] = true;
       const Corner start = whole.corner(v);
       int fan = 0, turns = 0;
       bool open = false;
       for (Corner c = start;;) {
         ++fan;
-        turns += added_triangle(c) ? 1 : 0;
+        turns += is_new[static_cast<std::size_t>(M::triangle(c).idx)] ? 1 : 0;
         const Corner n = whole.swing_ccw(c);
         if (!n.is_valid()) {
           open = true;
