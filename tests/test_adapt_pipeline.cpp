@@ -96,7 +96,7 @@ TEST_CASE("predicted vertices: the boundary term makes the prediction what is pr
   }
 }
 
-TEST_CASE("adapt cycles: the metric is derived again on each output; a fixed point stops them") {
+TEST_CASE("adapt cycles: the metric is derived again on each output, a fixed point stops them") {
   remesh::AdaptOptions o = hessian_options("exp(-8*((x-0.5)^2+(y-0.5)^2))");
   o.metric.error = 0.002;
   o.metric.hgrad = 0;

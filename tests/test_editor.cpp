@@ -314,7 +314,7 @@ TEST_CASE("editor: adaptation pass by pass, timeline, cancel and reset") {
   CHECK(s.timeline()[1]->metric[0].m == isotropic_metric(0.25).m);
 }
 
-TEST_CASE("editor: a histogram bin selects its elements; the worst one is the farthest from the unit") {
+TEST_CASE("editor: a histogram bin selects its elements, the worst one is the farthest from the unit") {
   EditorSession s;
   s.open(demo_mesh(), demo_sol());
   const Analysis a = s.analysis();

@@ -170,7 +170,7 @@ TEST_CASE("editor: the control net of at most N patches, the nearest to a centre
   CHECK(spread_far > 1.5f);
 }
 
-TEST_CASE("editor view: the G1 surface is built in the background; the view is settled once it is shown") {
+TEST_CASE("editor view: the G1 surface is built in the background, the view is settled once it is shown") {
   EditorSession s;
   s.open(test::asset_file("demo.mesh"));
   ViewState v;

@@ -60,7 +60,7 @@ void draw_frames(render::HeadlessRenderer& r, EditorSession& s, ViewState& v, Pa
 
 }  // namespace
 
-TEST_CASE("editor state: idle, running, paused after a step or a pause, converged, cancelled; each explained") {
+TEST_CASE("editor state: idle, running, paused after a step or a pause, converged, cancelled, each explained") {
   EditorSession s;
   s.open(test::asset_file("demo.mesh"), test::asset_file("demo.sol"));
   CHECK(s.run_state() == RunState::Idle);

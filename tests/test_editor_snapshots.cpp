@@ -73,7 +73,7 @@ TEST_CASE("snapshots: the mesh of a snapshot goes without the remesher's working
   CHECK(kept <= 110);        // positions, connectivity (2 triangles per vertex), tags, placements
 }
 
-TEST_CASE("snapshots: a run keeps its last passes; a kept pass restarts the adaptation; cancel returns to the start") {
+TEST_CASE("snapshots: a run keeps its last passes, a kept pass restarts the adaptation, cancel returns to the start") {
   EditorSession s;
   s.open(demo("mesh"), demo("sol"));
   s.run(2);

@@ -73,7 +73,7 @@ std::string write_cube_with_listed_features(const fs::path& dir) {
 
 }  // namespace
 
-TEST_CASE("editor autosave: names by input, start time and process; only these are pruned") {
+TEST_CASE("editor autosave: names by input, start time and process, only these are pruned") {
   const std::time_t t = 1764648192;  // a fixed instant; the name shows it in local time
   const std::string name = autosave_name("/data/my bunny.off", t, 4711);
   CHECK(name.rfind("my_bunny-", 0) == 0);
@@ -90,7 +90,7 @@ TEST_CASE("editor autosave: names by input, start time and process; only these a
   CHECK_FALSE(journal_has_edits({"open a.mesh", "save a.mesh", "# comment"}));
 }
 
-TEST_CASE("editor autosave: each launch writes its own file; an earlier launch's file never changes") {
+TEST_CASE("editor autosave: each launch writes its own file, an earlier launch's file never changes") {
   const auto dir = test::temp_dir("editor_autosave_launches");
   const std::time_t t = std::time(nullptr);
   Autosave first(dir.string(), t, 100);
@@ -226,7 +226,7 @@ TEST_CASE("editor autosave: a restore replays the edits, not the saves") {
                        doctest::Contains("not an editor session"), Error);
 }
 
-TEST_CASE("editor save: default paths beside the opened file; existing files the session did not write are reported") {
+TEST_CASE("editor save: default paths beside the opened file, existing files the session did not write are reported") {
   const auto dir = test::temp_dir("editor_save_paths");
   CHECK(default_save_mesh((dir / "bunny.off").string()) == (dir / "bunny.adapted.mesh").string());
   CHECK(default_save_sol((dir / "bunny.off").string()) == (dir / "bunny.adapted.sol").string());
@@ -370,7 +370,7 @@ TEST_CASE("editor open: a loaded metric is used as given (no gradation, no bound
   CHECK(differs);
 }
 
-TEST_CASE("editor features: listed in the .mesh, kept as given; saved and read back with the session") {
+TEST_CASE("editor features: listed in the .mesh, kept as given, saved and read back with the session") {
   const auto dir = test::temp_dir("editor_features");
   // A file that lists its features: only those (the cube's other edges are
   // as sharp, a detection would tag all twelve).

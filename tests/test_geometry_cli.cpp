@@ -66,7 +66,7 @@ TEST_CASE("anisurf reconstruct hemi.mesh -k 4: every vertex within 5e-3 of the u
   CHECK(d2 > 5e-3);
 }
 
-TEST_CASE("anisurf reconstruct: ridges and corners of a cube survive; user edits; bad command lines") {
+TEST_CASE("anisurf reconstruct: ridges and corners of a cube survive, user edits, bad command lines") {
   const auto dir = test::temp_dir("geometry_cli_cube_data");
   const std::string in = (dir / "cube.mesh").string(), out = (dir / "cube3.mesh").string();
   save_mesh(in, test::build(test::cube()));

@@ -33,7 +33,7 @@ int count_vertices(const SurfaceMesh& m, Tag tag) {
 
 }  // namespace
 
-TEST_CASE("features: the cube's 12 edges are ridges, its 8 vertices corners; -nr and a wider angle find none") {
+TEST_CASE("features: the cube's 12 edges are ridges, its 8 vertices corners, -nr and a wider angle find none") {
   SurfaceMesh m = test::build(test::cube());
   FeatureReport r = detect_features(m);
   CHECK(r.detected_ridges == 12);
@@ -92,7 +92,7 @@ TEST_CASE("features: boundaries, square corners by turning angle, interfaces bet
   CHECK(r.feature_edges == 16);
 }
 
-TEST_CASE("features: user edits add and remove ridges and corners; bad ids are refused with a message") {
+TEST_CASE("features: user edits add and remove ridges and corners, bad ids are refused with a message") {
   SurfaceMesh m = test::build(test::square_grid(2));
   FeatureOptions o;
   o.add_ridges = {{0, 4}};  // the diagonal of the first cell

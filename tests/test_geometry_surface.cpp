@@ -155,7 +155,7 @@ TEST_CASE("surface: the cube is reproduced exactly (flat faces, C0 along its rid
   CHECK(ec.max_ridge_gap < 1e-12);
 }
 
-TEST_CASE("surface: interpolates the vertices; G1 across interior edges, C0 along the boundary (icosphere, hemi)") {
+TEST_CASE("surface: interpolates the vertices, G1 across interior edges, C0 along the boundary (icosphere, hemi)") {
   const Built ico = reconstruct(test::build(test::icosphere(2)));
   CHECK(max_vertex_gap(ico.mesh, ico.surface) < 1e-14);
   EdgeCheck ec = check_edges(ico.mesh, ico.surface);

@@ -121,7 +121,7 @@ TEST_CASE("vtk xml: generated appended raw .vtu (UInt64 headers, Float32 points,
         std::vector<double>{2, 1, 2, 0, 0, 2});
 }
 
-TEST_CASE("legacy vtk: the writer's files read back exactly (refs, edges, fields; blanks in names become '_')") {
+TEST_CASE("legacy vtk: the writer's files read back exactly (refs, edges, fields, blanks in names become '_')") {
   const auto dir = test::temp_dir("vtk_legacy_roundtrip");
   MeshData d = test::roundtrip_mesh(false);
   const std::string path = (dir / "m.vtk").string();

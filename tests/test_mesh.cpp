@@ -494,7 +494,7 @@ TEST_CASE("absorb: another mesh moved in, free slots first, properties and tags 
     if (whole.position(v).x < 4) CHECK(label[v] == v.idx);
 }
 
-TEST_CASE("release_links: a waiting mesh gives its links and vertex corners back, found again; a slit keeps them") {
+TEST_CASE("release_links: a waiting mesh gives its links and vertex corners back, found again, a slit keeps them") {
   SurfaceMesh m;
   build_mesh(read_mesh_data(test::asset_file("demo.mesh")), m);
   // A hole, so that border edges and free slots are in the table too.
@@ -576,7 +576,7 @@ TEST_CASE("release_links: a waiting mesh gives its links and vertex corners back
   }
 }
 
-TEST_CASE("add_triangle links neighbours; a copy is independent") {
+TEST_CASE("add_triangle links neighbours, a copy is independent") {
   SurfaceMesh m;
   Vertex a = m.add_vertex({0, 0, 0}), b = m.add_vertex({1, 0, 0}), c = m.add_vertex({1, 1, 0}),
          d = m.add_vertex({0, 1, 0});

@@ -169,7 +169,7 @@ TEST_CASE("anisurf metric square3d.mesh --hessian-of 100*x^2 --error 0.01: M = d
   }
 }
 
-TEST_CASE("anisurf metric: errors name the expression, its position or the vertex; bad usage exits with 2") {
+TEST_CASE("anisurf metric: errors name the expression, its position or the vertex, bad usage exits with 2") {
   ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/square3d.mesh");
   const auto dir = anisurf::test::temp_dir("metric_errors");
   const std::string out = (dir / "m.sol").string();

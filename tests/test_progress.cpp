@@ -88,7 +88,7 @@ TEST_CASE("progress: vertex_progress is the closeness of V to the prediction, in
   CHECK(vertex_progress(10, -5) == 0);
 }
 
-TEST_CASE("progress: format_rate with k / M suffixes; '-' without time") {
+TEST_CASE("progress: format_rate with k / M suffixes, '-' without time") {
   CHECK(format_rate(0, 1) == "0");
   CHECK(format_rate(850, 1) == "850");
   CHECK(format_rate(425, 0.5) == "850");
@@ -237,7 +237,7 @@ TEST_CASE("progress display, terminal: a live line rewritten after every pass, e
   for (const auto& l : render_terminal(out)) CHECK(l.find("op/s  ") == std::string::npos);  // (only the live line has "op/s  ")
 }
 
-TEST_CASE("progress display: the live line waits for live_delay; -v 0 prints nothing, -v 2 one line per pass") {
+TEST_CASE("progress display: the live line waits for live_delay, -v 0 prints nothing, -v 2 one line per pass") {
   ProgressOptions o;
   o.terminal = true;
   o.predicted_vertices = 5000;

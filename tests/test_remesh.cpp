@@ -437,7 +437,7 @@ TEST_CASE("remesh: Remark 6 relaxation: intermediate metrics between the mesh's 
   CHECK(after.q_min > 0.3);
 }
 
-TEST_CASE("remesh: run() is advance() until finished; a stopped run resumes; snapshots of the schedule resume it") {
+TEST_CASE("remesh: run() is advance() until finished, a stopped run resumes, snapshots of the schedule resume it") {
   ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
   ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");
   RemeshOptions o;

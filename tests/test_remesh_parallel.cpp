@@ -206,7 +206,7 @@ TEST_CASE("region count: a coarsening takes more regions per thread than a refin
   }
 }
 
-TEST_CASE("region shares: later rounds of a refinement smaller, equal for a coarsening; the partition follows them") {
+TEST_CASE("region shares: later rounds of a refinement smaller, equal for a coarsening, the partition follows them") {
   for (double size : {0.05, 2.0}) {
     CAPTURE(size);
     auto s = make_setup(test::asset_file("demo.mesh"), size);

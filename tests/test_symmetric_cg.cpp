@@ -93,7 +93,7 @@ TEST_CASE("conjugate gradients: the solution of a sparse SPD system to the toler
   CHECK(std::sqrt(res2 / b2) <= 2e-10);
 }
 
-TEST_CASE("conjugate gradients: matches a dense solve; a zero right-hand side gives zero; the iteration cap is reported") {
+TEST_CASE("conjugate gradients: matches a dense solve, a zero right-hand side gives zero, the iteration cap is reported") {
   const TestSystem s = make_system(60, 4, 3);
   Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(60, -1.0, 2.0);
   std::vector<double> bv(b.data(), b.data() + b.size()), x;

@@ -392,6 +392,17 @@ SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
   return plan;
 }
 
+SplitPlan can_split_for_sag(AdaptedMesh& m, Corner c, const OperatorOptions& o) {
+  SplitPlan plan = can_split(m, c, o);
+  if (plan.why != Rejection::None || plan.swap_instead) return plan;
+  const SurfaceMesh& mesh = m.mesh();
+  const Vertex b = mesh.edge_from(c), d = mesh.edge_to(c);
+  const Vec3 &pb = mesh.position(b), &pd = mesh.position(d);
+  const double tol = sag_tolerance(m, pb, m.metric(b), pd, m.metric(d), o);
+  if (!(point_segment_distance2(plan.at.position, pb, pd) > tol * tol)) plan.why = Rejection::NoGain;
+  return plan;
+}
+
 SplitPlan can_split_onto_input(AdaptedMesh& m, Corner c, double max_turn_deg, double bound) {
   const SurfaceMesh& mesh = m.mesh();
   SplitPlan plan;
@@ -936,14 +947,18 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
 
 void move(AdaptedMesh& m, Vertex v, const MovePlan& plan) { m.commit(v, plan.at); }
 
+double sag_tolerance(const AdaptedMesh& m, const Vec3& pa, const SymTensor3& Ma, const Vec3& pb, const SymTensor3& Mb,
+                     const OperatorOptions& o) {
+  const double metric_length = m.length(pa, Ma, pb, Mb);
+  if (!(o.surface_sag > 0) || !(metric_length > 0)) return INFINITY;
+  const double tol = o.surface_sag * norm(pb - pa) / metric_length;
+  return o.surface_max_sag > 0 ? std::min(tol, o.surface_max_sag) : tol;
+}
+
 bool sags_off_input(AdaptedMesh& m, const Vec3& pa, const SymTensor3& Ma, const Vec3& na, Vertex a, const Vec3& pb,
                     const SymTensor3& Mb, const Vec3& nb, Vertex b, bool curve, const OperatorOptions& o) {
-  if (!(o.surface_sag > 0)) return false;
+  const double tol = sag_tolerance(m, pa, Ma, pb, Mb, o);
   const double len = norm(pb - pa);
-  const double metric_length = m.length(pa, Ma, pb, Mb);
-  if (!(metric_length > 0)) return false;
-  double tol = o.surface_sag * len / metric_length;
-  if (o.surface_max_sag > 0) tol = std::min(tol, o.surface_max_sag);
   if (!(len > 2 * tol)) return false;
   // A smooth surface turning by theta between the ends sags by about
   // len theta / 8 (a circle): far below the tolerance, no projection.

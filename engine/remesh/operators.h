@@ -24,7 +24,7 @@ enum class Rejection : int {
   Quality,      // eq. 17 quality: worse than the threshold and than before
   Length,       // a collapse would create an edge longer than lmax, a move one beyond it
   Cache,        // undoes one of the last modifications (Remark 5)
-  NoGain,       // move: the vertex is already at its optimum
+  NoGain,       // move: the vertex is already at its optimum; split for the sag: the new vertex stays on the chord
   Deviation,    // a new edge would leave the input surface by more than the sag tolerance
   kCount
 };
@@ -131,6 +131,12 @@ struct SplitPlan {
 // be shorter than lmin and the edge can be swapped (can_swap), the plan is
 // that swap instead (section 5.3, figure 14).
 SplitPlan can_split(AdaptedMesh& m, Corner c, const OperatorOptions& o);
+// can_split of an edge no longer than lmax that sags off the surface
+// (sags_off_input, section 5's fidelity): refused (NoGain) when the new
+// vertex would stay within the sag tolerance of the edge (the projection
+// refused and the fallback point on the chord: its halves would sag as
+// much, and be split again).
+SplitPlan can_split_for_sag(AdaptedMesh& m, Corner c, const OperatorOptions& o);
 // The split that keeps T_1 within `bound` of the input (the --hausd bound,
 // Remesher's final pass): the new vertex at the projection of the straight
 // midpoint (within the input bound of T_G), else at T_G's own closest point,
@@ -212,6 +218,10 @@ Corner find_edge_corner(const SurfaceMesh& mesh, Vertex a, Vertex b);
 // the input bound) than OperatorOptions::surface_sag allows. `na`, `nb`: the surface
 // normals at the ends (zero on features), a cheap bound first; `curve`: the
 // segment runs along a feature curve (its midpoint is projected onto it).
+// The sag a segment a-b of T_1 may have (OperatorOptions::surface_sag times
+// the size along it, at most surface_max_sag; infinite without a sag test).
+double sag_tolerance(const AdaptedMesh& m, const Vec3& pa, const SymTensor3& Ma, const Vec3& pb, const SymTensor3& Mb,
+                     const OperatorOptions& o);
 bool sags_off_input(AdaptedMesh& m, const Vec3& pa, const SymTensor3& Ma, const Vec3& na, Vertex a, const Vec3& pb,
                     const SymTensor3& Mb, const Vec3& nb, Vertex b, bool curve, const OperatorOptions& o);
 // The same for the edge a-b of T_1 as it is.

@@ -144,7 +144,9 @@ struct SplitEdges {
   // The exact length: refinement splits the longest edge first (taking a
   // split's generation in the order of the slots lowers the mean quality).
   static float key(double length) { return static_cast<float>(length); }
-  static SplitPlan plan(AdaptedMesh& m, Corner c, double, const OperatorOptions& o) { return can_split(m, c, o); }
+  static SplitPlan plan(AdaptedMesh& m, Corner c, double length, const OperatorOptions& o) {
+    return length > o.lmax ? can_split(m, c, o) : can_split_for_sag(m, c, o);
+  }
 };
 struct CollapseEdges {
   static constexpr PassKind kind = PassKind::Collapse;
