@@ -62,8 +62,9 @@ CASES = {
     "sphere20k_iso": ("sphere20k.mesh", "sphere20k_iso.sol", [], "iso:0.05", True),
     "sphere20k_band_nograd": ("sphere20k.mesh", "sphere20k_band.sol", ["-hgrad", "-1"], "band", True),
     "sphere20k_band": ("sphere20k.mesh", "sphere20k_band.sol", [], "band", True),
-    # the report's section 7.2: the smooth surface of the coarse input, whole
-    "hemi_iso": ("hemi.mesh", "hemi_iso.sol", ["--free-surface"], "iso:0.085", True),
+    # the report's section 7.2: the smooth surface of the coarse input, whole, for the metric
+    # alone (no geometry protection: it would follow the input's 20-degree facets, 5.7x the vertices)
+    "hemi_iso": ("hemi.mesh", "hemi_iso.sol", ["--free-surface", "--hausd", "0"], "iso:0.085", True),
     "square3d": ("square3d.mesh", "square3d.sol", [], "f100x2:0.01", False),
     # the report's Table 1: the metric from the Hessian of f = 100 x^2 (195 V: 4.4573e-3)
     "square3d_hessian": ("square3d.mesh", None, ["--hessian-of", "100*x^2", "--error", "0.01"], "f100x2:0.01", False),
