@@ -10,6 +10,19 @@
 
 namespace anisurf {
 
+#if defined(__linux__)
+namespace detail {
+// madvise(advice) over the whole pages of `page` bytes inside [data, data + bytes).
+inline void advise_whole_pages(const void* data, std::size_t bytes, std::uintptr_t page, int advice) {
+  if (data == nullptr) return;
+  const auto first = reinterpret_cast<std::uintptr_t>(data);
+  const auto begin = (first + page - 1) & ~(page - 1);
+  const auto end = (first + bytes) & ~(page - 1);
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, advice);
+}
+}  // namespace detail
+#endif
+
 // Asks the kernel to back the whole 2 MB pages inside [data, data + bytes)
 // with transparent huge pages (Linux madvise MADV_HUGEPAGE; in the usual
 // "madvise" mode the kernel uses them only where asked). Filling a fresh
@@ -20,10 +33,7 @@ namespace anisurf {
 inline void advise_huge_pages(const void* data, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
   constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
-  if (bytes < 8 * kHuge || data == nullptr) return;
-  const auto begin = (reinterpret_cast<std::uintptr_t>(data) + kHuge - 1) & ~(kHuge - 1);
-  const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(kHuge - 1);
-  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+  if (bytes >= 8 * kHuge) detail::advise_whole_pages(data, bytes, kHuge, MADV_HUGEPAGE);
 #else
   (void)data;
   (void)bytes;
@@ -36,11 +46,7 @@ inline void advise_huge_pages(const void* data, std::size_t bytes) {
 // Elsewhere a no-op.
 inline void release_pages(const void* data, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_DONTNEED)
-  constexpr std::uintptr_t kPage = 4096;
-  if (data == nullptr) return;
-  const auto begin = (reinterpret_cast<std::uintptr_t>(data) + kPage - 1) & ~(kPage - 1);
-  const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(kPage - 1);
-  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
+  detail::advise_whole_pages(data, bytes, 4096, MADV_DONTNEED);
 #else
   (void)data;
   (void)bytes;

@@ -70,11 +70,16 @@ MetricField take_adapted_metric(SurfaceMesh& t1) {
     // a vertex grow beside what is left of them, not beside all.
     const std::vector<PackedMetric>& packed = t1.get_vertex_property<PackedMetric>(kMetricProperty).vector();
     m.reserve(packed.size());
-    constexpr std::size_t kChunk = 1 << 14;
+    // Each chunk's release starts where the previous one's whole pages ended.
+    constexpr std::size_t kChunk = 1 << 14, kPage = 4096;
+    const auto base = reinterpret_cast<std::uintptr_t>(packed.data());
+    std::uintptr_t released = base;
     for (std::size_t begin = 0; begin < packed.size(); begin += kChunk) {
       const std::size_t end = std::min(packed.size(), begin + kChunk);
       for (std::size_t i = begin; i < end; ++i) m.push_back(packed[i].unpack());
-      release_pages(packed.data(), end * sizeof(PackedMetric));
+      const std::uintptr_t upto = base + end * sizeof(PackedMetric);
+      release_pages(reinterpret_cast<const void*>(released), upto - released);
+      released = std::max(released, upto & ~(kPage - 1));
     }
   }
   t1.vertex_properties().remove(kIsotropicMetricProperty);

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <cstdint>
 #include <exception>
-#include <stdexcept>
 #include <numeric>
+#include <stdexcept>
 #include <thread>
 #include <utility>
 #include <vector>
