@@ -107,6 +107,12 @@ const char* kAdaptHelp =
     "                       along it (default 0.1; a straight curve coarsens freely,\n"
     "                       an arc of radius r to sizes of 8 S r), and at most the\n"
     "                       chordal deviation --hausd)\n"
+    "  --crease-keep F      a feature edge of the output keeps at least F of the\n"
+    "                       dihedral angle of the input's crease under it: where it\n"
+    "                       keeps less (the triangles beside it reach past a crease\n"
+    "                       narrower than the size), the triangle turned farthest\n"
+    "                       from the input is split towards the crease, onto the\n"
+    "                       input (default 0.6; 0: off)\n"
     "  --max-memory MB      refuse, before any pass, a metric whose predicted output\n"
     "                       needs more (about 400 bytes per predicted vertex; default:\n"
     "                       the machine's memory)\n"
@@ -169,6 +175,7 @@ nlohmann::json pass_json(const remesh::PassReport& r) {
   j["split_unprojected"] = r.split_unprojected;
   j["bound_splits"] = r.bound_splits;
   j["beyond_bound"] = r.beyond_bound;
+  j["crease_splits"] = r.crease_splits;
   nlohmann::json rej = nlohmann::json::object();
   for (int i = 1; i < remesh::kRejectionCount; ++i)
     if (r.rejected[i]) rej[std::string(remesh::rejection_name(static_cast<remesh::Rejection>(i)))] = r.rejected[i];
@@ -234,6 +241,7 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
   o.remesh.op.lmax = p.option_double("--lmax", o.remesh.op.lmax);
   o.remesh.op.max_curve_turn_deg = p.option_double("--curve-turn", o.remesh.op.max_curve_turn_deg);
   o.remesh.op.curve_sag = p.option_double("--curve-sag", o.remesh.op.curve_sag);
+  o.remesh.crease_keep = p.option_double("--crease-keep", o.remesh.crease_keep);
   if (p.flag("--free-surface")) o.input_bound.enabled = false;
   o.remesh.max_rounds = int_option(p, "--iterations", o.remesh.max_rounds, 1, "a number of rounds >= 1");
   o.remesh.max_rounds = int_option(p, "--rounds", o.remesh.max_rounds, 1, "a number of rounds >= 1");
@@ -283,6 +291,8 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
   if (!(o.remesh.op.lmin > 0) || !(o.remesh.op.lmax > o.remesh.op.lmin)) throw UsageError{"need 0 < lmin < lmax"};
   if (!(o.remesh.op.max_curve_turn_deg > 0) || !(o.remesh.op.curve_sag > 0))
     throw UsageError{"--curve-turn and --curve-sag expect numbers > 0"};
+  if (!(o.remesh.crease_keep >= 0) || !(o.remesh.crease_keep <= 1))
+    throw UsageError{"--crease-keep expects a share in [0, 1] (0: off)"};
   if (!(o.fixed_point >= 0)) throw UsageError{"--fixed-point expects a share >= 0"};
   if (length == "log")
     o.length = LengthFormula::LinearSize;
@@ -587,6 +597,12 @@ void print_summary(const AdaptCommandLine& c, int cycles, const remesh::AdaptRes
     std::printf("distance     %d splits onto the input; %d edge midpoints or centroids farther than %s\n",
                 bound_splits, beyond, bound);
   }
+  int crease_splits = 0;
+  for (const auto& p : r.cycles.back().passes)
+    if (p.kind == remesh::PassKind::Final) crease_splits += p.crease_splits;
+  if (crease_splits > 0)
+    std::printf("creases      %d splits towards creases of the input (--crease-keep %g)\n", crease_splits,
+                c.options.remesh.crease_keep);
   std::printf("remeshing    %.2f s, %s operations per second\n", run_seconds,
               format_rate(splits + collapses + swaps + moves + removed, run_seconds).c_str());
   if (embeds_fields(c.out))

@@ -493,6 +493,7 @@ void adaptation_panel(EditorSession& s, ViewState& v, PanelState& p) {
               r.removed_vertices);
   if (r.bound_splits > 0 || r.beyond_bound > 0)
     ImGui::Text("hausd bound: %d splits onto the input, %d points still beyond", r.bound_splits, r.beyond_bound);
+  if (r.crease_splits > 0) ImGui::Text("creases: %d splits towards creases of the input", r.crease_splits);
   placement_lines(snap->placement, v);
   std::string rej;
   for (int i = 1; i < remesh::kRejectionCount; ++i)

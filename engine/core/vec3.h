@@ -39,6 +39,8 @@ inline Vec3 normalized(const Vec3& a) {
   double n = norm(a);
   return n > 0 ? a / n : a;
 }
+// The angle (radians, in [0, pi]) between two vectors of any lengths.
+inline double vector_angle(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
 inline bool is_finite(const Vec3& a) {
   return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
 }

@@ -403,7 +403,7 @@ SplitPlan can_split_for_sag(AdaptedMesh& m, Corner c, const OperatorOptions& o) 
   return plan;
 }
 
-SplitPlan can_split_onto_input(AdaptedMesh& m, Corner c, double max_turn_deg, double bound) {
+SplitPlan can_split_onto_input(AdaptedMesh& m, Corner c, double max_turn_deg, double bound, bool input_first) {
   const SurfaceMesh& mesh = m.mesh();
   SplitPlan plan;
   if (mesh.has_tag(c, kRequired)) {
@@ -420,7 +420,9 @@ SplitPlan can_split_onto_input(AdaptedMesh& m, Corner c, double max_turn_deg, do
   // from the midpoint to T_G within `bound` of it (the triangles tilt less;
   // the next sweep goes on).
   const Vec3 input = plan.at.on_input;
-  const std::array<Vec3, 4> candidates = {plan.at.position, input, mid + 0.5 * (input - mid), mid + 0.25 * (input - mid)};
+  std::array<Vec3, 4> candidates = {plan.at.position, input, mid + 0.5 * (input - mid), mid + 0.25 * (input - mid)};
+  if (input_first) std::swap(candidates[0], candidates[1]);
+  const std::size_t surface_slot = input_first ? 1 : 0, input_slot = input_first ? 0 : 1;
   Rejection first = Rejection::None;
   for (std::size_t i = 0; i < candidates.size(); ++i) {
     if (i > 0 && !(norm(candidates[i] - candidates[0]) > 0)) continue;
@@ -428,10 +430,10 @@ SplitPlan can_split_onto_input(AdaptedMesh& m, Corner c, double max_turn_deg, do
     const Rejection why = check_split_at(m, c, candidates[i], sn, plan.at.hint_g, lim);
     if (why == Rejection::None) {
       plan.why = Rejection::None;
-      if (i > 0) {
+      if (i != surface_slot) {
         plan.at.position = candidates[i];
         plan.at.pulled = true;
-        plan.at.on_surface = i == 1;
+        plan.at.on_surface = i == input_slot;
       }
       return plan;
     }

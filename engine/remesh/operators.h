@@ -145,8 +145,9 @@ SplitPlan can_split_for_sag(AdaptedMesh& m, Corner c, const OperatorOptions& o);
 // can_split widened to `max_turn_deg` (a triangle across a crease of the
 // input turns to follow it), else (a free edge) the midpoint moved along the
 // edge's normal all or half of the way to T_G when within `bound` of it;
-// no swap instead.
-SplitPlan can_split_onto_input(AdaptedMesh& m, Corner c, double max_turn_deg, double bound);
+// no swap instead. With `input_first`, T_G's closest point is tried before
+// the surface point (where the smooth surface rounds what T_G keeps sharp).
+SplitPlan can_split_onto_input(AdaptedMesh& m, Corner c, double max_turn_deg, double bound, bool input_first = false);
 // Pre: can_split(...).why == None. Returns the new vertex (tagged kRidge on a
 // ridge edge), or an invalid vertex when the plan was a swap.
 Vertex split(AdaptedMesh& m, Corner c, const SplitPlan& plan);

@@ -17,6 +17,11 @@ namespace anisurf::remesh {
 
 namespace {
 
+// A crease split's new vertex (RemeshOptions::crease_keep) is the
+// projection of the midpoint, or a fallback of can_split_onto_input within
+// this share of the size the metric asks for from the input.
+constexpr double kCreaseSplitBound = 0.1;
+
 using M = SurfaceMesh;
 using Clock = std::chrono::steady_clock;
 
@@ -569,6 +574,77 @@ void Remesher::final_pass(PassReport& r) {
     if (r.moves == before) break;
   }
   if (!r.interrupted) bound_distance(r);
+  if (!r.interrupted) keep_creases(r);
+}
+
+std::array<int, 2> Remesher::crease_spoke(Corner c) {
+  SurfaceMesh& mesh = mesh_.mesh();
+  const Corner o = mesh.opposite(c);
+  if (!o.is_valid()) return {-1, -1};
+  const Vertex u = mesh.edge_from(c), w = mesh.edge_to(c);
+  const Vec3 n1 = mesh.triangle_normal(M::triangle(c)), n2 = mesh.triangle_normal(M::triangle(o));
+  if (!(norm2(n1) > 0) || !(norm2(n2) > 0)) return {-1, -1};
+  // The input's feature edge under the middle of the edge, and its facets.
+  GeometrySurface& geometry = mesh_.geometry();
+  const SurfaceMesh& tg = geometry.mesh();
+  const std::array<Hint, 2> hints = {mesh_.hint_g(u), mesh_.hint_g(w)};
+  const Projection p = geometry.project(0.5 * (mesh.position(u) + mesh.position(w)), hints, Constraint::OnFeature);
+  if (p.location.constraint != Constraint::OnFeature || !p.location.edge.is_valid()) return {-1, -1};
+  const Corner ic = p.location.edge, io = tg.opposite(ic);
+  if (!io.is_valid()) return {-1, -1};
+  const Vec3 m1 = tg.triangle_normal(M::triangle(ic)), m2 = tg.triangle_normal(M::triangle(io));
+  if (!(norm2(m1) > 0) || !(norm2(m2) > 0)) return {-1, -1};
+  if (vector_angle(n1, n2) >= options_.crease_keep * vector_angle(m1, m2)) return {-1, -1};
+  // Each triangle lies left of its own direction along the edge: the one
+  // running the way the input edge runs in ic's triangle faces m1.
+  const Vec3 along = tg.position(tg.edge_to(ic)) - tg.position(tg.edge_from(ic));
+  const bool same = dot(mesh.position(w) - mesh.position(u), along) > 0;
+  const double turn1 = vector_angle(n1, same ? m1 : m2), turn2 = vector_angle(n2, same ? m2 : m1);
+  const Corner side = turn1 >= turn2 ? c : o;
+  // The longer of the side's two other edges, in the metric.
+  const Vertex apex = mesh.vertex(side);
+  const Vertex a = mesh.edge_from(side), b = mesh.edge_to(side);
+  const double la = mesh_.length(apex, a), lb = mesh_.length(apex, b);
+  if (!(std::max(la, lb) >= options_.op.lmin)) return {-1, -1};
+  return {apex.idx, (la >= lb ? a : b).idx};
+}
+
+void Remesher::keep_creases(PassReport& r) {
+  if (!(options_.crease_keep > 0)) return;
+  SurfaceMesh& mesh = mesh_.mesh();
+  const double budget = options_.max_bound_split_share * mesh.n_vertices();
+  int splits = 0;
+  for (int sweep = 0; sweep < options_.crease_sweeps; ++sweep) {
+    std::vector<std::array<int, 2>> spokes;
+    for (Triangle t : mesh.triangles())
+      for (int k = 0; k < 3; ++k) {
+        const Corner c = M::corner(t, k);
+        const Corner o = mesh.opposite(c);
+        // Each edge between two triangles once, at its smaller corner.
+        if (!o.is_valid() || o.idx < c.idx || !is_feature_edge(mesh, c)) continue;
+        const std::array<int, 2> spoke = crease_spoke(c);
+        if (spoke[0] >= 0) spokes.push_back(spoke);
+      }
+    int done = 0;
+    for (const auto& [apex, end] : spokes) {
+      if (interrupted(r) || splits + done >= budget) break;
+      // A spoke split earlier in the sweep (two creases share it) is gone.
+      const Corner e = find_edge_corner(mesh, Vertex(apex), Vertex(end));
+      if (!e.is_valid()) continue;
+      const double metric_length = mesh_.length(Vertex(apex), Vertex(end));
+      const double size = norm(mesh.position(Vertex(end)) - mesh.position(Vertex(apex))) / metric_length;
+      const SplitPlan plan = can_split_onto_input(mesh_, e, options_.bound_split_turn_deg, kCreaseSplitBound * size, true);
+      if (plan.why != Rejection::None) {
+        refuse(r, PassKind::Final, plan.why);
+        continue;
+      }
+      apply(r, e, plan, false);
+      ++done;
+    }
+    splits += done;
+    if (done == 0 || r.interrupted || splits >= budget) break;
+  }
+  r.crease_splits += splits;
 }
 
 std::vector<Remesher::BeyondBound> Remesher::edges_beyond_bound(const std::vector<Vertex>* around) {

@@ -130,6 +130,17 @@ struct RemeshOptions {
   // most max_bound_split_share x the vertices are split so.
   double distance_bound = 0;
   double relative_distance_bound = 0;
+  // Sharp edges kept sharp (ours, not the report's): at the end of the
+  // final pass, a feature edge of T_1 between two triangles that keeps less
+  // than crease_keep of the dihedral angle of the input edge under it (the
+  // triangles beside it reach past a crease narrower than the size, or the
+  // smooth surface rounds a crease of a coarse input) has its triangle that
+  // turns farthest from the input's facet on its side split at its longer
+  // other edge, onto the input: that apex comes closer to the crease.
+  // crease_sweeps sweeps; no edge shorter than op.lmin is split so, and
+  // the splits count in max_bound_split_share (0 keep: off).
+  double crease_keep = 0.6;
+  int crease_sweeps = 4;
   double max_bound_split_share = 0.25;
   int bound_sweeps = 8;
   double bound_split_turn_deg = 80;
@@ -151,6 +162,9 @@ struct PassReport {
   // and triangle centroids still beyond it when the pass ended.
   int bound_splits = 0;
   int beyond_bound = 0;
+  // Final pass: the splits that brought triangles closer to a crease of the
+  // input (RemeshOptions::crease_keep; counted in `splits` too).
+  int crease_splits = 0;
   int split_unprojected = 0;  // splits at the straight midpoint (projection refused)
   // Refusals per filter (indexed by Rejection), all operators together;
   // what counts as a refusal: refuse() in remesher.cpp.
@@ -303,6 +317,11 @@ class Remesher {
   // The end of the final pass with a distance bound (RemeshOptions::
   // distance_bound): the sweeps of splits onto the input.
   void bound_distance(PassReport& r);
+  // The end of the final pass: the sweeps of RemeshOptions::crease_keep.
+  void keep_creases(PassReport& r);
+  // The edge (apex, end) to split so that the feature edge of corner c keeps
+  // its crease; {-1, -1} when it keeps it already or cannot be helped.
+  std::array<int, 2> crease_spoke(Corner c);
   // An edge to split for the bound: its point's distance to T_G and the
   // bound there. For a triangle's centroid, a-b is its longest edge and c
   // its third vertex (the other edges are tried when that split is
