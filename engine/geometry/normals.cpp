@@ -143,7 +143,7 @@ class LocalFit {
   PivotedQR qr_;
 };
 
-double angle_of(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
+double angle_of(const Vec3& a, const Vec3& b) { return vector_angle(a, b); }
 
 // Tangent line at a regular curve vertex v between curve neighbours a and b,
 // oriented towards b. curve_tangent (the circle tangent, or the turn shared

@@ -259,7 +259,7 @@ namespace {
 double dihedral_angle(const SurfaceMesh& m, Corner c) {
   const Vec3 a = m.triangle_normal(SurfaceMesh::triangle(c));
   const Vec3 b = m.triangle_normal(SurfaceMesh::triangle(m.opposite(c)));
-  return std::atan2(norm(cross(a, b)), dot(a, b));
+  return vector_angle(a, b);
 }
 
 // The turn of the feature curve through v (curve_turn) where exactly two

@@ -319,7 +319,7 @@ void AdaptedMesh::measure_sagitta() {
           theta = edge_turn(a, b, len);
         } else {
           const Vec3 no = g.triangle_normal(SurfaceMesh::triangle(g.opposite(c)));
-          theta = std::atan2(norm(cross(nt, no)), dot(nt, no));
+          theta = vector_angle(nt, no);
         }
         worst = std::max(worst, len * theta / 8.0);
       }

@@ -965,7 +965,7 @@ bool sags_off_input(AdaptedMesh& m, const Vec3& pa, const SymTensor3& Ma, const 
   // A smooth surface turning by theta between the ends sags by about
   // len theta / 8 (a circle): far below the tolerance, no projection.
   if (norm2(na) > 0 && norm2(nb) > 0) {
-    const double theta = std::atan2(norm(cross(na, nb)), dot(na, nb));
+    const double theta = vector_angle(na, nb);
     if (len * theta < 2 * tol) return false;
   }
   // The midpoint against the point a new vertex there would take (on the

@@ -137,8 +137,8 @@ struct RemeshOptions {
   // smooth surface rounds a crease of a coarse input) has its triangle that
   // turns farthest from the input's facet on its side split at its longer
   // other edge, onto the input: that apex comes closer to the crease.
-  // crease_sweeps sweeps; no edge shorter than op.lmin is split so, and
-  // the splits count in max_bound_split_share (0 keep: off).
+  // crease_sweeps sweeps; no edge shorter than op.lmin is split so, and at
+  // most max_bound_split_share x the vertices (0 keep: off).
   double crease_keep = 0.6;
   int crease_sweeps = 4;
   double max_bound_split_share = 0.25;
