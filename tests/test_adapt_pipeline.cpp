@@ -236,9 +236,15 @@ TEST_CASE("adapt surface auto: polyhedral for a coarsening whose G1 surface woul
   using remesh::SurfaceKind;
   CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.3)) == SurfaceKind::Polyhedral);
   CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.06)) == SurfaceKind::Polyhedral);
+  // Edges up to 1.21 long in the metric (the longest is 0.0413): below
+  // lmax, the split pass leaves them.
+  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.034)) == SurfaceKind::Polyhedral);
   // A refinement is rebuilt on the smooth surface, however flat the facets.
+  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.02)) == SurfaceKind::G1);
   CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.01)) == SurfaceKind::G1);
+  // The largest sagitta (1.23e-4) against hausd / 2: above 5e-5, below 1.5e-4.
   CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.3), 1e-4) == SurfaceKind::G1);
+  CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.3), 3e-4) == SurfaceKind::Polyhedral);
   CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, iso(fine, 0.3), 1e-3) == SurfaceKind::Polyhedral);
   CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, MetricField{}) == SurfaceKind::G1);
   CHECK(remesh::resolve_surface(SurfaceKind::G1, fine, iso(fine, 0.3)) == SurfaceKind::G1);

@@ -286,7 +286,7 @@ std::optional<SurfaceKind> surface_before_metric(SurfaceKind kind, const Surface
   if (kind != SurfaceKind::Auto) return kind;
   if (separate_geometry || tg.n_triangles() == 0) return SurfaceKind::G1;
   if (!(hausd > 0)) return std::nullopt;
-  const double abs_bound = 0.2 * hausd;
+  const double abs_bound = kFineGeometryHausd * hausd;
   for (Corner c : tg.edges()) {
     const Vec3 e = tg.position(tg.edge_to(c)) - tg.position(tg.edge_from(c));
     if (!(norm(e) * edge_turn(tg, c) / 8 <= abs_bound)) return SurfaceKind::G1;
@@ -298,13 +298,14 @@ SurfaceKind resolve_surface(SurfaceKind kind, const SurfaceMesh& tg, const Metri
   if (kind != SurfaceKind::Auto) return kind;
   if (metric.size() != static_cast<std::size_t>(tg.vertex_capacity()) || tg.n_triangles() == 0)
     return SurfaceKind::G1;
-  const double abs_bound = hausd > 0 ? 0.2 * hausd : std::numeric_limits<double>::infinity();
+  const double abs_bound = hausd > 0 ? kFineGeometryHausd * hausd : std::numeric_limits<double>::infinity();
+  const double unsplit = OperatorOptions{}.lmax;
   for (Corner c : tg.edges()) {
     const Vertex a = tg.edge_from(c), b = tg.edge_to(c);
     const Vec3 e = tg.position(b) - tg.position(a);
     const double theta = edge_turn(tg, c);
     const double l = std::max(metric_length(metric[a.idx], e), metric_length(metric[b.idx], e));
-    if (!(l <= 1) || !(l * theta / 8 <= kFineGeometrySag) || !(norm(e) * theta / 8 <= abs_bound))
+    if (!(l <= unsplit) || !(l * theta / 8 <= kFineGeometrySag) || !(norm(e) * theta / 8 <= abs_bound))
       return SurfaceKind::G1;
   }
   return SurfaceKind::Polyhedral;

@@ -213,23 +213,27 @@ std::unique_ptr<GeometrySurface> make_geometry(const SurfaceMesh& tg, SurfaceKin
                                                std::future<std::unique_ptr<Locator>> locator = {});
 // Auto resolved for T_G, the metric at its vertices (T_G is T_0; empty
 // `metric`: G1) and the chordal deviation hausd (0: none): Polyhedral when
-// the metric refines no edge of T_G (each at most 1 long in it: a
-// coarsening, whose vertices are mostly T_G's own; a refinement is rebuilt
-// on the smooth surface) and the G1 surface would lie about as close to
-// T_G's facets as InputBound lets a vertex stray from it anyway, at every
-// edge e of T_G: its sagitta
-// |e| theta / 8 (theta: the dihedral angle at e, or on a feature curve the
-// curve's turn at its ends) at most kFineGeometrySag times the size the
-// metric asks along e, and at most InputBound's 0.2 hausd. The patches,
-// frames and their memory (330 bytes a triangle) would then change nothing
-// measurable (a 500k-triangle sphere coarsened to 7k triangles: surface
-// setup 9.5 -> 2.4 s, peak memory 360 -> 203 MB). Other kinds as given.
+// the metric refines no edge of T_G (each at most the report's lmax 1.4
+// long in it, which the split pass leaves: a coarsening, whose vertices are
+// mostly T_G's own; a refinement is rebuilt on the smooth surface) and the
+// G1 surface would lie close to T_G's facets at every edge e of T_G: its
+// sagitta |e| theta / 8 (theta: the dihedral angle at e, or on a feature
+// curve the curve's turn at its ends) at most kFineGeometrySag times the
+// size the metric asks along e, and at most kFineGeometryHausd x hausd.
+// InputBound keeps a vertex on the G1 surface within 0.2 hausd of T_G
+// anyway: where the facets lie within half the chordal deviation of the
+// smooth surface, the output on them cannot be told apart from the one on
+// G1 at the deviation asked for. The patches, frames and their memory (330
+// bytes a triangle) would then change nothing measurable (a 500k-triangle
+// sphere coarsened to 7k triangles: surface setup 9.5 -> 2.4 s, peak memory
+// 360 -> 203 MB). Other kinds as given.
 inline constexpr double kFineGeometrySag = 0.05;
+inline constexpr double kFineGeometryHausd = 0.5;
 SurfaceKind resolve_surface(SurfaceKind kind, const SurfaceMesh& tg, const MetricField& metric, double hausd = 0);
 // The kind resolve_surface will return for T_G, when it is known before the
 // metric: a kind other than Auto; G1 for a separate geometry, an empty T_G
-// or an edge whose sagitta exceeds 0.2 hausd; nullopt otherwise (the
-// metric decides).
+// or an edge whose sagitta exceeds kFineGeometryHausd x hausd; nullopt
+// otherwise (the metric decides).
 std::optional<SurfaceKind> surface_before_metric(SurfaceKind kind, const SurfaceMesh& tg, double hausd,
                                                  bool separate_geometry);
 
