@@ -472,11 +472,14 @@ bool AdaptedMesh::faces_surface(const std::array<Vec3, 3>& p, const std::array<b
   // triangle, from the vertex's own hint, so on its sheet of a thin
   // part); at curve and fixed corners the surface has two sides, so a
   // triangle with no free corner votes once, at its centroid.
-  int votes = 0, against = 0;
+  // The majority decides: the votes stop once the rest cannot change it.
+  const int votes = free[0] + free[1] + free[2];
+  int cast = 0, against = 0;
   for (int k = 0; k < 3; ++k) {
     if (!free[k]) continue;
+    if (2 * against > votes || 2 * (against + votes - cast) <= votes) break;
     const Projection pr = geometry_.project(0.9 * p[k] + 0.1 * g, std::span<const Hint>(&hints[k], 1), Constraint::Free);
-    ++votes;
+    ++cast;
     if (!(dot(nt, pr.normal) > 0)) ++against;
   }
   if (votes > 0) return 2 * against <= votes;
