@@ -418,10 +418,12 @@ Vec3 BezierSurface::position(Triangle t, const Bary& b) const {
   return s.mu[0] * lin[0] + s.mu[1] * lin[1] + s.mu[2] * lin[2];
 }
 
-SurfacePoint BezierSurface::evaluate(Triangle t, const Bary& b) const {
+SurfacePoint BezierSurface::evaluate(Triangle t, const Bary& b) const { return evaluate(patch(t), b); }
+
+SurfacePoint BezierSurface::evaluate(const Patch& P, const Bary& b) {
   const Local s = locate_sub(b);
   Vec3 lin[3];
-  reduce_to_linear(patch(t), s, lin);
+  reduce_to_linear(P, s, lin);
   SurfacePoint r;
   r.position = s.mu[0] * lin[0] + s.mu[1] * lin[1] + s.mu[2] * lin[2];
   // macro directions (-1, 1, 0) and (-1, 0, 1) in the subtriangle's coordinates

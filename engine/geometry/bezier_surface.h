@@ -76,6 +76,8 @@ class BezierSurface {
   // outside [0,1] extrapolate the subpatch that contains them).
   Vec3 position(Triangle t, const Bary& b) const;
   SurfacePoint evaluate(Triangle t, const Bary& b) const;
+  // The same on the control points of a patch (patch(t)).
+  static SurfacePoint evaluate(const Patch& P, const Bary& b);
 
   // The 31 control points of triangle t (section 3, steps 3-4; zero for a
   // deleted triangle). Layout: 0-2 the vertices, 3 the centre, 4 + 3k + m the

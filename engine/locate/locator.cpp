@@ -54,6 +54,7 @@ struct Locator::Data {
 
   const Vec3& pos(int t, int k) const { return mesh->position(Vertex(tv(t)[k])); }
   double tri_d2(const Vec3& x, int t) const { return point_triangle_distance2(x, pos(t, 0), pos(t, 1), pos(t, 2)); }
+  TriangleClosest tri_closest(const Vec3& x, int t) const { return closest_point_on_triangle(x, pos(t, 0), pos(t, 1), pos(t, 2)); }
   double seg_d2(const Vec3& x, int e) const {
     return point_segment_distance2(x, fe_p[2 * static_cast<std::size_t>(e)], fe_p[2 * static_cast<std::size_t>(e) + 1]);
   }
@@ -325,9 +326,12 @@ Location Locator::project(const Vec3& x, std::span<const Hint> hints, Constraint
 }
 
 Location Locator::free_result(const Vec3& x, int t, int steps, bool fallback) const {
+  if (t < 0) return Location{};
+  return free_result(closest_point_on_triangle(x, d_->pos(t, 0), d_->pos(t, 1), d_->pos(t, 2)), t, steps, fallback);
+}
+
+Location Locator::free_result(const TriangleClosest& c, int t, int steps, bool fallback) const {
   Location r;
-  if (t < 0) return r;
-  const TriangleClosest c = closest_point_on_triangle(x, d_->pos(t, 0), d_->pos(t, 1), d_->pos(t, 2));
   r.triangle = Triangle(t);
   r.bary = c.bary;
   r.point = c.point;
@@ -342,16 +346,19 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
   const Data& D = *d_;
   next_stamp();
   // K_0: the closest of the hinted triangles.
+  // The closest point of K is kept for the result (cK).
   int K = -1;
   double dK = INFINITY;
+  TriangleClosest cK;
   for (const Hint& h : hints) {
     const int t = h.triangle.idx;
     if (!D.live_triangle(t) || tmark_[t] == stamp_) continue;
     tmark_[t] = stamp_;
-    const double d = D.tri_d2(x, t);
-    if (d < dK) {
-      dK = d;
+    const TriangleClosest c = D.tri_closest(x, t);
+    if (c.distance2 < dK) {
+      dK = c.distance2;
       K = t;
+      cK = c;
     }
   }
   // The tree's search for a triangle closer than `bound`: those the walk
@@ -375,7 +382,7 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
   // d(x, K), only its own fan can hold a closer triangle: that fan alone is
   // searched, and K is the closest of all when none there is closer.
   int steps = 0;
-  auto closer_among = [&](int v, double rK, int& best, double& bd) {
+  auto closer_among = [&](int v, double rK, int& best, double& bd, TriangleClosest& cbest) {
     for (int i = D.vt_first[v]; i < D.vt_first[v + 1]; ++i) {
       const int t = D.vt[i];
       if (tmark_[t] == stamp_) continue;
@@ -383,36 +390,39 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
       // A triangle whose bounding ball is as far as K cannot be closer:
       // marked as evaluated without the exact distance.
       if (D.ball_beyond(x, t, rK)) continue;
-      const double d = D.tri_d2(x, t);
-      if (d < bd) {
-        bd = d;
+      const TriangleClosest c = D.tri_closest(x, t);
+      if (c.distance2 < bd) {
+        bd = c.distance2;
         best = t;
+        cbest = c;
       }
     }
   };
   for (;;) {
     int best = -1;
     double bd = INFINITY;
+    TriangleClosest cbest;
     const int* v = D.tv(K);
     const double rK = std::sqrt(dK);
     int clear_vertex = -1;
     for (int k = 0; k < 3 && clear_vertex < 0; ++k)
       if (norm(x - D.pos(K, k)) + rK <= D.vclear[v[k]]) clear_vertex = v[k];
     if (clear_vertex >= 0) {
-      closer_among(clear_vertex, rK, best, bd);
-      if (best < 0 || !(bd < dK)) return free_result(x, K, steps, false);
+      closer_among(clear_vertex, rK, best, bd, cbest);
+      if (best < 0 || !(bd < dK)) return free_result(cK, K, steps, false);
     } else {
-      for (int k = 0; k < 3; ++k) closer_among(v[k], rK, best, bd);
+      for (int k = 0; k < 3; ++k) closer_among(v[k], rK, best, bd, cbest);
       if (best < 0 || !(bd < dK)) {
         // Local minimum: every triangle of E(K) evaluated. One sharing no
         // vertex with K is at least K's clearance from it, so at least the
         // clearance less d(x, K) from x: no closer than K when that is >= d(x, K).
-        if (2 * rK <= D.triangle_clearance(K)) return free_result(x, K, steps, false);
+        if (2 * rK <= D.triangle_clearance(K)) return free_result(cK, K, steps, false);
         break;
       }
     }
     K = best;
     dK = bd;
+    cK = cbest;
     if (++steps >= D.options.max_steps) return global(K, dK, steps);
   }
   return global(K, dK, steps);

@@ -29,6 +29,8 @@
 
 namespace anisurf {
 
+struct TriangleClosest;  // locate/closest_point.h
+
 struct LocateOptions {
   // Descent moves before the tree search takes over (a hint far away).
   int max_steps = 64;
@@ -81,6 +83,8 @@ class Locator {
   Location project_feature(const Vec3& x, std::span<const Hint> hints);
   Location project_corner(const Vec3& x);
   Location free_result(const Vec3& x, int t, int steps, bool fallback) const;
+  // The same from t's closest point to x, already found.
+  Location free_result(const TriangleClosest& c, int t, int steps, bool fallback) const;
   Location feature_result(const Vec3& x, int e, int steps, bool fallback) const;
   void next_stamp();
 

@@ -181,10 +181,10 @@ VertexKind AdaptedMesh::kind(Vertex v) const {
 }
 
 Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, std::initializer_list<Vertex> near) {
-  return place(x, kind, std::vector<Vertex>(near));
+  return place(x, kind, std::span<const Vertex>(near.begin(), near.size()));
 }
 
-Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, const std::vector<Vertex>& near) {
+Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, std::span<const Vertex> near) {
   std::array<Hint, 8> hg{}, h0{};
   std::size_t n = 0;
   for (Vertex v : near) {

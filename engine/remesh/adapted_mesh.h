@@ -14,6 +14,7 @@
 #include <initializer_list>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "core/packed_normal.h"
@@ -108,7 +109,7 @@ class AdaptedMesh {
   // from the hints of the vertices `near` (in T_G and T_0), with the metric
   // and solution of T_0 there. Fixed vertices are not projected.
   Placement place(const Vec3& x, VertexKind kind, std::initializer_list<Vertex> near);
-  Placement place(const Vec3& x, VertexKind kind, const std::vector<Vertex>& near);
+  Placement place(const Vec3& x, VertexKind kind, std::span<const Vertex> near);
   // The placement of v as it is now (no search).
   Placement current(Vertex v) const;
   // The placement of vertex v at x when T_G's vertex of the same id lies

@@ -56,11 +56,20 @@ Projection BezierGeometry::at(const Location& where) const {
   return p;
 }
 
+SurfacePoint BezierGeometry::evaluate(Triangle t, const Bary& b) {
+  const std::size_t slot = static_cast<std::size_t>(t.idx) % kCachedPatches;
+  if (cached_triangle_[slot] != t.idx) {
+    cached_patch_[slot] = surface_->patch(t);
+    cached_triangle_[slot] = t.idx;
+  }
+  return BezierSurface::evaluate(cached_patch_[slot], b);
+}
+
 Projection BezierGeometry::project(const Vec3& x, std::span<const Hint> hints, Constraint constraint) {
   // Closest point of the G1 surface: Gauss-Newton on the parameters from the
   // polyhedral projection (locate/surface_projection.h).
   const SurfaceEvaluator eval = [this](Triangle t, const std::array<double, 3>& b) {
-    const SurfacePoint s = surface_->evaluate(t, b);
+    const SurfacePoint s = evaluate(t, b);
     return ParametricPoint{s.position, s.d1, s.d2};
   };
   Projection p;
@@ -70,7 +79,7 @@ Projection BezierGeometry::project(const Vec3& x, std::span<const Hint> hints, C
       p.point = x;
       return p;
     }
-    const SurfacePoint s = surface_->evaluate(p.location.triangle, p.location.bary);
+    const SurfacePoint s = evaluate(p.location.triangle, p.location.bary);
     p.point = p.location.constraint == Constraint::Fixed ? p.location.point : s.position;
     p.normal = s.normal;
     return p;
@@ -82,7 +91,7 @@ Projection BezierGeometry::project(const Vec3& x, std::span<const Hint> hints, C
     return p;
   }
   p.point = sp.point;
-  p.normal = surface_->evaluate(p.location.triangle, p.location.bary).normal;
+  p.normal = evaluate(p.location.triangle, p.location.bary).normal;
   return p;
 }
 

@@ -9,6 +9,7 @@
 //    (ControlSpace), never from the moving mesh.
 // Both keep one search structure each (section 4) and answer from hints.
 #pragma once
+#include <array>
 #include <memory>
 #include <mutex>
 #include <span>
@@ -114,10 +115,24 @@ class BezierGeometry final : public GeometrySurface {
  private:
   BezierGeometry(const BezierGeometry&) = default;  // shares the patches, copies the locator (own marks)
   Locator& locator() override { return locator_; }
+  // The surface at a point of triangle t, from the patch cache.
+  SurfacePoint evaluate(Triangle t, const Bary& b);
   // Shared with the copies for other threads.
   std::shared_ptr<const BezierSurface> surface_;
   Locator locator_;
   Mode mode_;
+  // The control points of the triangles projected onto last (each thread's
+  // copy its own): the operators' checks project many points near the same
+  // few triangles of T_G, and a patch is assembled from its shared parts.
+  // Direct-mapped by triangle id.
+  static constexpr int kCachedPatches = 64;
+  std::array<int, kCachedPatches> cached_triangle_ = filled_array(-1);
+  std::array<BezierSurface::Patch, kCachedPatches> cached_patch_{};
+  static std::array<int, kCachedPatches> filled_array(int value) {
+    std::array<int, kCachedPatches> a;
+    a.fill(value);
+    return a;
+  }
 };
 
 // What T_0 gives at a point of T_1: the metric and the solution values.
