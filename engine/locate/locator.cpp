@@ -327,7 +327,7 @@ Location Locator::project(const Vec3& x, std::span<const Hint> hints, Constraint
 
 Location Locator::free_result(const Vec3& x, int t, int steps, bool fallback) const {
   if (t < 0) return Location{};
-  return free_result(closest_point_on_triangle(x, d_->pos(t, 0), d_->pos(t, 1), d_->pos(t, 2)), t, steps, fallback);
+  return free_result(d_->tri_closest(x, t), t, steps, fallback);
 }
 
 Location Locator::free_result(const TriangleClosest& c, int t, int steps, bool fallback) const {
