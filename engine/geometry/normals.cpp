@@ -143,8 +143,6 @@ class LocalFit {
   PivotedQR qr_;
 };
 
-double angle_of(const Vec3& a, const Vec3& b) { return vector_angle(a, b); }
-
 // Tangent line at a regular curve vertex v between curve neighbours a and b,
 // oriented towards b. curve_tangent (the circle tangent, or the turn shared
 // by the edges' lengths where they are very unequal) turns the chord v->b by alpha and
@@ -161,7 +159,7 @@ Vec3 safe_curve_tangent(const SurfaceMesh& mesh, Vertex v, const FeatureEdgeAt& 
   const Vec3 ua = normalized(mesh.position(ea.other) - p), ub = normalized(mesh.position(eb.other) - p);
   const Vec3 t = curve_tangent(mesh.position(ea.other), p, mesh.position(eb.other), options.tangent_circle_ratio,
                                options.tangent_even_ratio);
-  const double turn = std::numbers::pi - angle_of(ua, ub);
+  const double turn = std::numbers::pi - vector_angle(ua, ub);
   if (turn < 1e-9) return t;
   const Vec3 wb = normalized(-ua - dot(-ua, ub) * ub);  // ub turns towards wb
   const Vec3 wa = normalized(-ub - dot(-ub, ua) * ua);  // ua turns towards wa
@@ -192,7 +190,7 @@ Vec3 safe_curve_tangent(const SurfaceMesh& mesh, Vertex v, const FeatureEdgeAt& 
       if (std::cos(beta) + std::sin(beta) * s.ratio < room) return false;
     return true;
   };
-  const double alpha_c = angle_of(t, ub);
+  const double alpha_c = vector_angle(t, ub);
   if (ok(alpha_c)) return t;
   const int steps = 64;
   double best = -1;
@@ -253,7 +251,7 @@ SectorEstimate estimate_sector_normal(const SurfaceMesh& mesh, Vertex v, const s
       }
       fit = next;
     }
-    if (norm(fit) > 0 && angle_of(fit, n) < options.max_fit_deviation_deg * kDeg) return {fit, SectorEstimate::Source::Fitted};
+    if (norm(fit) > 0 && vector_angle(fit, n) < options.max_fit_deviation_deg * kDeg) return {fit, SectorEstimate::Source::Fitted};
   }
   return {n, SectorEstimate::Source::AngleWeighted};
 }
@@ -606,7 +604,7 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
     for (std::size_t i = 0; i < movable.size(); ++i) {
       Vec3& n = f.sector_normal_[movable[i]];
       const Vec3& e = estimate[i];
-      if (!(angle_of(e, n) > cap)) continue;
+      if (!(vector_angle(e, n) > cap)) continue;
       const Vec3 away = n - dot(n, e) * e;  // in the plane of e and n: normal to a curve axis when both are
       if (!(norm(away) > 0)) continue;
       n = normalized(std::cos(cap) * e + std::sin(cap) * normalized(away));
@@ -734,7 +732,7 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
       return i;
     };
     for (const End& en : ends)
-      if (en.s2 >= 0 && en.s1 != en.s2 && angle_of(f.sector_normal_[en.s1], f.sector_normal_[en.s2]) < merge_angle)
+      if (en.s2 >= 0 && en.s1 != en.s2 && vector_angle(f.sector_normal_[en.s1], f.sector_normal_[en.s2]) < merge_angle)
         parent[root(local(en.s1))] = root(local(en.s2));
     std::vector<Vec3> group(ids.size());
     for (std::size_t i = 0; i < ids.size(); ++i) group[root(static_cast<int>(i))] += f.sector_normal_[ids[i]];
@@ -760,7 +758,7 @@ SurfaceFrames compute_frames(const SurfaceMesh& mesh, const NormalOptions& optio
       if (norm(nt) == 0) continue;
       if (dot(nt, t) < 0 || (dot(t, t) == 0 && dot(nt, chord) < 0)) nt = -nt;
       from_planes[i] = nt;
-      if (norm(t) > 0 && angle_of(nt, t) > max_corner_turn) curves_first = true;
+      if (norm(t) > 0 && vector_angle(nt, t) > max_corner_turn) curves_first = true;
     }
     if (curves_first) {
       // A sector plane that would turn a curve far from its own course (a

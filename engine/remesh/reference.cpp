@@ -58,9 +58,9 @@ Projection BezierGeometry::at(const Location& where) const {
 
 SurfacePoint BezierGeometry::evaluate(Triangle t, const Bary& b) {
   const std::size_t slot = static_cast<std::size_t>(t.idx) % kCachedPatches;
-  if (cached_triangle_[slot] != t.idx) {
+  if (cached_id_plus_one_[slot] != t.idx + 1) {
     cached_patch_[slot] = surface_->patch(t);
-    cached_triangle_[slot] = t.idx;
+    cached_id_plus_one_[slot] = t.idx + 1;
   }
   return BezierSurface::evaluate(cached_patch_[slot], b);
 }

@@ -124,15 +124,10 @@ class BezierGeometry final : public GeometrySurface {
   // The control points of the triangles projected onto last (each thread's
   // copy its own): the operators' checks project many points near the same
   // few triangles of T_G, and a patch is assembled from its shared parts.
-  // Direct-mapped by triangle id.
+  // Direct-mapped by triangle id; a slot holds its triangle's id + 1 (0: empty).
   static constexpr int kCachedPatches = 64;
-  std::array<int, kCachedPatches> cached_triangle_ = filled_array(-1);
+  std::array<int, kCachedPatches> cached_id_plus_one_{};
   std::array<BezierSurface::Patch, kCachedPatches> cached_patch_{};
-  static std::array<int, kCachedPatches> filled_array(int value) {
-    std::array<int, kCachedPatches> a;
-    a.fill(value);
-    return a;
-  }
 };
 
 // What T_0 gives at a point of T_1: the metric and the solution values.
