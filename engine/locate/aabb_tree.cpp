@@ -26,9 +26,20 @@ float round_up(double v) {
   return static_cast<double>(f) < v ? std::nextafter(f, INFINITY) : f;
 }
 
-void merge(BBox& a, const BBox& b) {
-  a.lo = min(a.lo, b.lo);
-  a.hi = max(a.hi, b.hi);
+// Grows a to hold b. Plain comparisons (min_of's NaN test is not needed:
+// a starts empty, at +-inf, and is never NaN, and a NaN coordinate of b
+// leaves a's as it is, as with min_of and max_of).
+inline void merge(BBox& a, const BBox& b) {
+  for (int k = 0; k < 3; ++k) {
+    a.lo[k] = b.lo[k] < a.lo[k] ? b.lo[k] : a.lo[k];
+    a.hi[k] = b.hi[k] > a.hi[k] ? b.hi[k] : a.hi[k];
+  }
+}
+inline void add_point(BBox& a, const Vec3& p) {
+  for (int k = 0; k < 3; ++k) {
+    a.lo[k] = p[k] < a.lo[k] ? p[k] : a.lo[k];
+    a.hi[k] = p[k] > a.hi[k] ? p[k] : a.hi[k];
+  }
 }
 
 }  // namespace
@@ -58,7 +69,7 @@ void AabbTree::build(const std::vector<BBox>& boxes) {
     BBox box, cbox;
     for (int i = task.begin; i < task.end; ++i) {
       merge(box, boxes[ids_[i]]);
-      cbox.add(centre[ids_[i]]);
+      add_point(cbox, centre[ids_[i]]);
     }
     for (int k = 0; k < 3; ++k) {
       nodes_[task.node].lo[k] = round_down(box.lo[k]);
@@ -82,17 +93,24 @@ void AabbTree::build(const std::vector<BBox>& boxes) {
     double best_cost = INFINITY;
     const Vec3 extent = cbox.hi - cbox.lo;
     if (task.depth < kSahDepthLimit) {
+      // The bins of the three axes in one sweep over the primitives.
+      std::array<std::array<BBox, kBins>, 3> bin_boxes{};
+      std::array<std::array<int, kBins>, 3> bin_counts{};
+      std::array<double, 3> scales{};
+      for (int a = 0; a < 3; ++a) scales[a] = extent[a] > 0 ? kBins / extent[a] : 0.0;
+      for (int i = task.begin; i < task.end; ++i) {
+        const int id = ids_[i];
+        for (int a = 0; a < 3; ++a) {
+          if (!(extent[a] > 0)) continue;
+          const int b = std::min(kBins - 1, static_cast<int>((centre[id][a] - cbox.lo[a]) * scales[a]));
+          ++bin_counts[a][b];
+          merge(bin_boxes[a][b], boxes[id]);
+        }
+      }
       for (int a = 0; a < 3; ++a) {
         if (!(extent[a] > 0)) continue;
-        std::array<BBox, kBins> bin_box{};
-        std::array<int, kBins> bin_count{};
-        const double scale = kBins / extent[a];
-        for (int i = task.begin; i < task.end; ++i) {
-          const int id = ids_[i];
-          const int b = std::min(kBins - 1, static_cast<int>((centre[id][a] - cbox.lo[a]) * scale));
-          ++bin_count[b];
-          merge(bin_box[b], boxes[id]);
-        }
+        const std::array<BBox, kBins>& bin_box = bin_boxes[a];
+        const std::array<int, kBins>& bin_count = bin_counts[a];
         // Sweep from the right for the right-hand areas, then from the left.
         std::array<double, kBins> right_area{};
         std::array<int, kBins> right_count{};

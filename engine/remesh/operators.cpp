@@ -540,8 +540,18 @@ double worst_fan_quality(const AdaptedMesh& m, Vertex r, Vertex k) {
   return q;
 }
 
+// The worst quality of the two fans of an edge before a collapse, measured
+// at most once for the options of one edge (worst_fan_quality is symmetric).
+struct FanQuality {
+  double value = -1;  // < 0: not measured yet
+  double get(const AdaptedMesh& m, Vertex r, Vertex k) {
+    if (value < 0) value = worst_fan_quality(m, r, k);
+    return value;
+  }
+};
+
 Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Placement& p, bool moves,
-                         VertexKind kind_r, VertexKind kind_k, const OperatorOptions& o,
+                         VertexKind kind_r, VertexKind kind_k, const OperatorOptions& o, FanQuality& fan_quality,
                          bool topology_checked = false) {
   const SurfaceMesh& mesh = m.mesh();
   if (!topology_checked && !anisurf::can_collapse(mesh, c)) return Rejection::Topology;
@@ -554,8 +564,10 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
   const Limits lim(o);
   double q_new = 1;
   bool any = false;
-  // The new triangles, for check_surface_side after the cheaper filters.
-  std::vector<TriangleView> new_triangles;
+  // The new triangles, for check_surface_side after the cheaper filters
+  // (storage kept from call to call on each thread).
+  thread_local std::vector<TriangleView> new_triangles;
+  new_triangles.clear();
   for (Vertex w : {r, k}) {
     for (Corner x : mesh.fan_corners(w)) {
       const Triangle t = M::triangle(x);
@@ -583,7 +595,7 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
   }
   // Worse than collapse_quality and than the worst triangle of the two fans
   // before (measured only then: most collapses clear the threshold).
-  if (q_new < o.collapse_quality && q_new < worst_fan_quality(m, r, k)) return Rejection::Quality;
+  if (q_new < o.collapse_quality && q_new < fan_quality.get(m, r, k)) return Rejection::Quality;
   // New edges across the surface stay on it (feature edges: the curve test).
   for (Vertex n : mesh.ring_vertices(r)) {
     if (n == k) continue;
@@ -639,6 +651,7 @@ CollapsePlan can_collapse(AdaptedMesh& m, Corner c, const OperatorOptions& o, do
   if (midpoint && in_place_first) options[n_options++] = {p, q, kp, kq, true};
   Rejection last = Rejection::Fixed;
   bool topology_checked = false;
+  FanQuality fan_quality;
   for (int i = 0; i < n_options; ++i) {
     const Option& op = options[i];
     const Rejection why = removable(op.kr);
@@ -662,7 +675,7 @@ CollapsePlan can_collapse(AdaptedMesh& m, Corner c, const OperatorOptions& o, do
     } else {
       at = m.current(op.kept);
     }
-    last = check_collapse(m, c, op.removed, op.kept, at, op.moves, op.kr, op.kk, o, true);
+    last = check_collapse(m, c, op.removed, op.kept, at, op.moves, op.kr, op.kk, o, fan_quality, true);
     if (last == Rejection::None) {
       out.why = Rejection::None;
       out.removed = op.removed;
@@ -698,7 +711,8 @@ CollapsePlan can_remove_vertex(AdaptedMesh& m, Vertex v, const OperatorOptions& 
     Corner c = find_edge_corner(mesh, v, w);
     if (!c.is_valid()) continue;
     const Placement at = m.current(w);
-    out.why = check_collapse(m, c, v, w, at, false, kv, m.kind(w), o);
+    FanQuality fan_quality;
+    out.why = check_collapse(m, c, v, w, at, false, kv, m.kind(w), o, fan_quality);
     if (out.why == Rejection::None) {
       out.edge = c;
       out.removed = v;
