@@ -1,6 +1,7 @@
 #include "mesh/operators.h"
 
 #include <algorithm>
+#include <array>
 
 namespace anisurf {
 
@@ -53,7 +54,7 @@ bool seen_before(const SurfaceMesh& m, Vertex v, RingVertexIterator it) {
 // vertices, each a or e. Shared vertices are counted with multiplicity, as
 // the intersection of the two rings sorted as multisets (min of the two
 // counts per vertex).
-bool is_link_condition_ok(const SurfaceMesh& m, Vertex b, Vertex d, Vertex a, Vertex e, int expected) {
+bool is_link_condition_ok_walking(const SurfaceMesh& m, Vertex b, Vertex d, Vertex a, Vertex e, int expected) {
   int shared = 0;
   const RingVertexRange ring_b = m.ring_vertices(b);
   for (auto it = ring_b.begin(); it != ring_b.end(); ++it) {
@@ -62,6 +63,44 @@ bool is_link_condition_ok(const SurfaceMesh& m, Vertex b, Vertex d, Vertex a, Ve
     if (in_d == 0 || seen_before(m, b, it)) continue;
     const int k = std::min(in_d, ring_count(m, b, w));
     if (w != a && w != e) return false;
+    shared += k;
+  }
+  return shared == expected;
+}
+
+// The ring of v in the order of ring_vertices, into out (at most kMax
+// entries); false when it holds more.
+template <std::size_t kMax>
+bool ring_into(const SurfaceMesh& m, Vertex v, std::array<int, kMax>& out, int& n) {
+  n = 0;
+  for (Vertex x : m.ring_vertices(v)) {
+    if (n == static_cast<int>(kMax)) return false;
+    out[static_cast<std::size_t>(n++)] = x.idx;
+  }
+  return true;
+}
+
+int count_in(const int* first, const int* last, int w) {
+  int n = 0;
+  for (const int* x = first; x != last; ++x) n += *x == w;
+  return n;
+}
+
+// is_link_condition_ok_walking on the two rings read once into arrays (the
+// same counts in the same order); rings longer than the arrays are walked.
+bool is_link_condition_ok(const SurfaceMesh& m, Vertex b, Vertex d, Vertex a, Vertex e, int expected) {
+  constexpr std::size_t kMax = 64;
+  std::array<int, kMax> rb, rd;
+  int nb = 0, nd = 0;
+  if (!ring_into(m, b, rb, nb) || !ring_into(m, d, rd, nd)) return is_link_condition_ok_walking(m, b, d, a, e, expected);
+  const int* b0 = rb.data();
+  int shared = 0;
+  for (int i = 0; i < nb; ++i) {
+    const int w = rb[static_cast<std::size_t>(i)];
+    const int in_d = count_in(rd.data(), rd.data() + nd, w);
+    if (in_d == 0 || count_in(b0, b0 + i, w) > 0) continue;
+    const int k = std::min(in_d, count_in(b0, b0 + nb, w));
+    if (w != a.idx && w != e.idx) return false;
     shared += k;
   }
   return shared == expected;
