@@ -48,11 +48,13 @@ void AabbTree::build(const std::vector<BBox>& boxes) {
   nodes_.clear();
   ids_.clear();
   depth_ = 0;
-  std::vector<Vec3> centre(boxes.size());
+  // Centres as plain arrays: the binning indexes their axes at run time.
+  std::vector<std::array<double, 3>> centre(boxes.size());
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     if (boxes[i].empty()) continue;
     ids_.push_back(static_cast<int>(i));
-    centre[i] = boxes[i].center();
+    const Vec3 c = boxes[i].center();
+    centre[i] = {c.x, c.y, c.z};
   }
   if (ids_.empty()) return;
   nodes_.reserve(2 * ids_.size());
@@ -69,7 +71,8 @@ void AabbTree::build(const std::vector<BBox>& boxes) {
     BBox box, cbox;
     for (int i = task.begin; i < task.end; ++i) {
       merge(box, boxes[ids_[i]]);
-      add_point(cbox, centre[ids_[i]]);
+      const std::array<double, 3>& c = centre[ids_[i]];
+      add_point(cbox, Vec3{c[0], c[1], c[2]});
     }
     for (int k = 0; k < 3; ++k) {
       nodes_[task.node].lo[k] = round_down(box.lo[k]);
@@ -96,13 +99,22 @@ void AabbTree::build(const std::vector<BBox>& boxes) {
       // The bins of the three axes in one sweep over the primitives.
       std::array<std::array<BBox, kBins>, 3> bin_boxes{};
       std::array<std::array<int, kBins>, 3> bin_counts{};
-      std::array<double, 3> scales{};
-      for (int a = 0; a < 3; ++a) scales[a] = extent[a] > 0 ? kBins / extent[a] : 0.0;
+      // The axes along which the centroids spread, their origins and scales.
+      std::array<int, 3> axes{};
+      std::array<double, 3> origin{}, scales{};
+      int n_axes = 0;
+      for (int a = 0; a < 3; ++a)
+        if (extent[a] > 0) {
+          axes[n_axes] = a;
+          origin[n_axes] = cbox.lo[a];
+          scales[n_axes++] = kBins / extent[a];
+        }
       for (int i = task.begin; i < task.end; ++i) {
         const int id = ids_[i];
-        for (int a = 0; a < 3; ++a) {
-          if (!(extent[a] > 0)) continue;
-          const int b = std::min(kBins - 1, static_cast<int>((centre[id][a] - cbox.lo[a]) * scales[a]));
+        const std::array<double, 3>& c = centre[id];
+        for (int j = 0; j < n_axes; ++j) {
+          const int a = axes[j];
+          const int b = std::min(kBins - 1, static_cast<int>((c[a] - origin[j]) * scales[j]));
           ++bin_counts[a][b];
           merge(bin_boxes[a][b], boxes[id]);
         }
