@@ -266,23 +266,39 @@ BezierSurface::Patch BezierSurface::elevated_patch(int t) const {
   const double g3[3] = {1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0};
   Vec3 b[10];
   cubic_net(m, P, b);
+  // The blossoms shared by the subtriangles (the same arguments in the same
+  // order give the same values): f(G, G, G), f(e_j, G, G), f(e_j, e_j, G).
+  const double unit[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const Vec3 fGGG = blossom3(b, g3, g3, g3);
+  Vec3 fEGG[3], fEEG[3];
+  for (int j = 0; j < 3; ++j) {
+    fEGG[j] = blossom3(b, unit[j], g3, g3);
+    fEEG[j] = blossom3(b, unit[j], unit[j], g3);
+  }
   // the other points: elevated blossoms of the cubic over each subtriangle
   for (int k = 0; k < 3; ++k) {
-    double A[3] = {0, 0, 0}, B[3] = {0, 0, 0};
-    A[(k + 1) % 3] = 1;
-    B[(k + 2) % 3] = 1;
-    const double* pts[3] = {A, B, g3};
-    // cubic subpatch c3(i, j, l) = f(A^i, B^j, G^l)
+    const int ia = (k + 1) % 3, ib = (k + 2) % 3;
+    const double* pts[3] = {unit[ia], unit[ib], g3};
+    // cubic subpatch c3(i, j, l) = f(A^i, B^j, G^l), A = e_ia, B = e_ib
     Vec3 c3[10];
     for (int l = 0; l <= 3; ++l)
       for (int j = 0; j <= 3 - l; ++j) {
         const int i = 3 - j - l;
-        const double* args[3] = {nullptr, nullptr, nullptr};
-        int n = 0;
-        for (int r = 0; r < i; ++r) args[n++] = pts[0];
-        for (int r = 0; r < j; ++r) args[n++] = pts[1];
-        for (int r = 0; r < l; ++r) args[n++] = pts[2];
-        c3[tri_index(3, j, l)] = blossom3(b, args[0], args[1], args[2]);
+        Vec3& c = c3[tri_index(3, j, l)];
+        if (l == 3) {
+          c = fGGG;
+        } else if (l == 2) {
+          c = fEGG[i == 1 ? ia : ib];
+        } else if (l == 1 && i != 1) {
+          c = fEEG[i == 2 ? ia : ib];
+        } else {
+          const double* args[3] = {nullptr, nullptr, nullptr};
+          int n = 0;
+          for (int r = 0; r < i; ++r) args[n++] = pts[0];
+          for (int r = 0; r < j; ++r) args[n++] = pts[1];
+          for (int r = 0; r < l; ++r) args[n++] = pts[2];
+          c = blossom3(b, args[0], args[1], args[2]);
+        }
       }
     // degree elevation: c4(I) = sum_m I_m / 4 c3(I - e_m)
     for (int l = 0; l <= 4; ++l)
