@@ -337,24 +337,37 @@ FitKind fit_at(const SurfaceMesh& mesh, Vertex v, FitWorkspace& work, const Vec3
                const HessianRecoveryOptions& o, Value value, Vec3& gradient, SymTensor3& hessian) {
   const int top = std::min(std::max(o.degree, 2), 3);
   const int widest = std::max(o.rings, 4);
-  for (int degree = top; degree >= 2; --degree)
-    for (int r = o.rings; r <= widest; ++r)
-      if (solve_full(local_system(mesh, v, work.rings.collect(v, r, min_points(o)), n, degree, value, work.system),
-                     work.qr, work.rank_threshold, gradient, hessian))
-        return FitKind::Full;
-  int best = 0;
-  for (int degree = top; degree >= 2 && best == 0; --degree)
+  // A wider request answered by the same points (the rings stop growing at
+  // features, at a sector's sides, or were already widened to min_points)
+  // is the same system: its fit is not tried again.
+  for (int degree = top; degree >= 2; --degree) {
+    std::size_t tried = 0;
     for (int r = o.rings; r <= widest; ++r) {
+      const std::span<const int> points = work.rings.collect(v, r, min_points(o));
+      if (points.size() == tried) continue;
+      tried = points.size();
+      if (solve_full(local_system(mesh, v, points, n, degree, value, work.system), work.qr, work.rank_threshold,
+                     gradient, hessian))
+        return FitKind::Full;
+    }
+  }
+  int best = 0;
+  for (int degree = top; degree >= 2 && best == 0; --degree) {
+    std::size_t tried = 0;
+    for (int r = o.rings; r <= widest; ++r) {
+      const std::span<const int> points = work.rings.collect(v, r, min_points(o));
+      if (points.size() == tried) continue;
+      tried = points.size();
       Vec3 g;
       SymTensor3 H;
-      const int k = solve_reduced(
-          local_system(mesh, v, work.rings.collect(v, r, min_points(o)), n, degree, value, work.system), g, H);
+      const int k = solve_reduced(local_system(mesh, v, points, n, degree, value, work.system), g, H);
       if (k > best) {
         best = k;
         gradient = g;
         hessian = H;
       }
     }
+  }
   return best > 0 ? FitKind::Reduced : FitKind::None;
 }
 
