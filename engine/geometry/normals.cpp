@@ -104,9 +104,12 @@ class LocalFit {
         A(i, 8) = y * y * y;
       }
     }
-    if (!qr_.factor_full_rank(a_.data(), m, k, 1e-8)) return {};
     std::array<double, PivotedQR::kMaxColumns> c{};
-    qr_.solve(z_.data(), c.data());
+    if (!solve_well_conditioned(a_.data(), m, k, z_.data(), c.data())) {
+      if (!qr_.factor_full_rank(a_.data(), m, k, 1e-8)) return {};
+      c.fill(0);
+      qr_.solve(z_.data(), c.data());
+    }
     // z = c0 x + c1 y + ... : the normal is (-c0, -c1, 1) in the frame
     return normalized(n0 - c[0] * t1 - c[1] * t2);
   }
