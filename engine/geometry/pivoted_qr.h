@@ -131,16 +131,6 @@ class PivotedQR {
   std::array<int, kMaxColumns> permutation_{};
 };
 
-// The least-squares solution x (n values) of A x = b by the normal
-// equations (A^T A x = A^T b, Cholesky), for the systems the QR above would
-// find of full rank by far: A (m x n, by columns, m >= n, n at most
-// PivotedQR::kMaxColumns) is taken only when every pivot of A^T A is above
-// `min_pivot_ratio` times its largest diagonal entry (a pivot is the squared
-// distance of a column from the span of those before it: at 1e-6, every
-// column stands off the others by 1e-3 of the longest, far above the rank
-// tests of the fits, 1e-8 and 1e-10 of R's diagonal). False otherwise
-// (x then holds no solution): the caller solves by the pivoted QR. About
-// half the QR's work on the fits' 12-40 x 5-9 systems, refinement included.
 namespace detail {
 
 // solve_well_conditioned for N columns (a compile-time count: the products
@@ -209,6 +199,16 @@ bool solve_well_conditioned_n(const double* A, int m, const double* b, double* x
 
 }  // namespace detail
 
+// The least-squares solution x (n values) of A x = b by the normal
+// equations (A^T A x = A^T b, Cholesky, one step of refinement), for the
+// systems the QR above would find of full rank by far: A (m x n, by
+// columns, m >= n; n 5 or 9, the fits' column counts) is taken only when
+// every pivot of A^T A is above `min_pivot_ratio` times its largest diagonal
+// entry (a pivot is the squared distance of a column from the span of those
+// before it: at 1e-6, every column stands off the others by 1e-3 of the
+// longest, far above the rank tests of the fits, 1e-8 and 1e-10 of R's
+// diagonal). False otherwise (x then holds no solution): the caller solves
+// by the pivoted QR. Less work than the QR on the fits' 12-40 x 5-9 systems.
 inline bool solve_well_conditioned(const double* A, int m, int n, const double* b, double* x,
                                    double min_pivot_ratio = 1e-6) {
   if (m < n) return false;
