@@ -105,11 +105,7 @@ class LocalFit {
       }
     }
     std::array<double, PivotedQR::kMaxColumns> c{};
-    if (!solve_well_conditioned(a_.data(), m, k, z_.data(), c.data())) {
-      if (!qr_.factor_full_rank(a_.data(), m, k, 1e-8)) return {};
-      c.fill(0);
-      qr_.solve(z_.data(), c.data());
-    }
+    if (!solve_full_rank_least_squares(qr_, a_.data(), m, k, z_.data(), c.data(), 1e-8)) return {};
     // z = c0 x + c1 y + ... : the normal is (-c0, -c1, 1) in the frame
     return normalized(n0 - c[0] * t1 - c[1] * t2);
   }

@@ -1,5 +1,7 @@
-// Householder QR with column pivoting for the small dense least-squares
-// systems of the local fits (metric/hessian.cpp, geometry/normals.cpp).
+// The small dense least-squares systems of the local fits
+// (metric/hessian.cpp, geometry/normals.cpp): Householder QR with column
+// pivoting, the normal equations where a system is well conditioned by far,
+// and solve_full_rank_least_squares choosing between them.
 #pragma once
 #include <algorithm>
 #include <array>
@@ -217,6 +219,22 @@ inline bool solve_well_conditioned(const double* A, int m, int n, const double* 
     case 9: return detail::solve_well_conditioned_n<9>(A, m, b, x, min_pivot_ratio);
     default: return false;  // the fits' column counts only: the QR takes the others
   }
+}
+
+// The least-squares solution x (n values) of A x = b (A m x n by columns)
+// when A has full rank by `rank_threshold` (PivotedQR::factor_full_rank): by
+// the normal equations where A is well conditioned by far
+// (solve_well_conditioned; only for thresholds up to 1e-6 of R's diagonal,
+// so no system the QR would refuse is solved there), else by `qr`. False
+// (x undefined) when the rank is below n.
+inline bool solve_full_rank_least_squares(PivotedQR& qr, const double* A, int m, int n, const double* b, double* x,
+                                          double rank_threshold) {
+  constexpr double kLargestFastThreshold = 1e-6;
+  if (rank_threshold <= kLargestFastThreshold && solve_well_conditioned(A, m, n, b, x)) return true;
+  if (!qr.factor_full_rank(A, m, n, rank_threshold)) return false;
+  std::fill(x, x + n, 0.0);
+  qr.solve(b, x);
+  return true;
 }
 
 }  // namespace anisurf

@@ -216,24 +216,14 @@ void write_derivatives(const LocalSystem& ls, const double* a, Vec3& gradient, S
                                 0.0);
 }
 
-// The rank test of the full fits (a pivot of the QR at most this share of
-// the largest: the points do not determine the polynomial).
-constexpr double kFullRankThreshold = 1e-10;
-
 // Least-squares fit of the full polynomial. False (writing nothing) when the
 // points do not determine it.
 bool solve_full(const LocalSystem& ls, PivotedQR& qr, double rank_threshold, Vec3& gradient, SymTensor3& hessian) {
   if (ls.A.rows() < ls.A.cols()) return false;
-  const int m = static_cast<int>(ls.A.rows()), n = static_cast<int>(ls.A.cols());
   std::array<double, PivotedQR::kMaxColumns> a{};
-  // Well-conditioned systems by the normal equations, when the QR's rank
-  // test is the default one (the stricter one-sided test keeps the QR).
-  const bool fast = rank_threshold <= kFullRankThreshold && solve_well_conditioned(ls.A.data(), m, n, ls.b.data(), a.data());
-  if (!fast) {
-    if (!qr.factor_full_rank(ls.A.data(), m, n, rank_threshold)) return false;
-    a.fill(0);
-    qr.solve(ls.b.data(), a.data());
-  }
+  if (!solve_full_rank_least_squares(qr, ls.A.data(), static_cast<int>(ls.A.rows()), static_cast<int>(ls.A.cols()),
+                                     ls.b.data(), a.data(), rank_threshold))
+    return false;
   write_derivatives(ls, a.data(), gradient, hessian);
   return true;
 }
@@ -319,6 +309,8 @@ int solve_reduced(const LocalSystem& ls, Vec3& gradient, SymTensor3& hessian) {
   write_derivatives(ls, a.data(), gradient, hessian);
   return resolved;
 }
+
+constexpr double kFullRankThreshold = 1e-10;
 
 // What the fits at one vertex after another reuse.
 struct FitWorkspace {
