@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <vector>
 
@@ -141,6 +142,40 @@ SurfaceMesh sliver_fanned_box(double first_deg) {
     const Vec3 a = d.vertices[t[0]], b = d.vertices[t[1]], c = d.vertices[t[2]];
     if (dot(cross(b - a, c - a), (a + b + c) / 3.0 - Vec3(0.5, 0.5, 0.5)) < 0) std::swap(t[1], t[2]);
   }
+  SurfaceMesh m;
+  build_mesh(d, m);
+  return m;
+}
+
+// A closed slab [0, 1] x [0, 1] x [0, t], every face a grid of squares of
+// side 1 / n split into two triangles (the sides n x 1): its four sides are
+// strips of width t between two ridges, narrower than the sizes adapted to.
+SurfaceMesh thin_slab(double t, int n) {
+  MeshData d;
+  std::map<std::array<long long, 3>, int> ids;
+  auto vertex = [&](const Vec3& p) {
+    const std::array<long long, 3> key = {std::llround(p.x * 1e9), std::llround(p.y * 1e9), std::llround(p.z * 1e9)};
+    const auto [it, added] = ids.emplace(key, static_cast<int>(d.vertices.size()));
+    if (added) d.vertices.push_back(p);
+    return it->second;
+  };
+  // The face o + a u + b v, a, b in [0, 1], nu x nv squares.
+  auto face = [&](const Vec3& o, const Vec3& u, const Vec3& v, int nu, int nv) {
+    for (int i = 0; i < nu; ++i)
+      for (int j = 0; j < nv; ++j) {
+        auto p = [&](int a, int b) { return vertex(o + (double(a) / nu) * u + (double(b) / nv) * v); };
+        const int a = p(i, j), b = p(i + 1, j), c = p(i + 1, j + 1), e = p(i, j + 1);
+        d.triangles.push_back({a, b, c});
+        d.triangles.push_back({a, c, e});
+      }
+  };
+  const Vec3 x(1, 0, 0), y(0, 1, 0), z(0, 0, t);
+  face({0, 0, 0}, y, x, n, n);
+  face({0, 0, t}, x, y, n, n);
+  face({0, 0, 0}, x, z, n, 1);
+  face({0, 1, 0}, z, x, 1, n);
+  face({0, 0, 0}, z, y, 1, n);
+  face({1, 0, 0}, y, z, n, 1);
   SurfaceMesh m;
   build_mesh(d, m);
   return m;
@@ -291,6 +326,14 @@ TEST_CASE("fidelity: a box fanned with slivers into a 90 degree edge keeps its e
   const SurfaceMesh in = sliver_fanned_box(1e-5);
   REQUIRE(in.validate().ok());
   check_adapted_iso(in, 40, 0.9);
+}
+
+TEST_CASE("fidelity: a slab thinner than the size keeps both ridges of each side and its edges in band") {
+  // Sides 0.01 wide at h = diagonal / 14 (about 0.1): one layer of needles
+  // along each side, the ridges coarsened to the size.
+  const SurfaceMesh in = thin_slab(0.01, 60);
+  REQUIRE(in.validate().ok());
+  check_adapted_iso(in, 14, 0.9);
 }
 
 TEST_CASE("fidelity: a circular interface between two references stays on its circle, ends included") {

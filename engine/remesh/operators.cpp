@@ -540,6 +540,39 @@ double worst_fan_quality(const AdaptedMesh& m, Vertex r, Vertex k) {
   return q;
 }
 
+// True if v lies on a feature curve (ridge, boundary, corner).
+bool on_feature(const SurfaceMesh& mesh, Vertex v) {
+  return (mesh.vertex_tags(v) & (kRidge | kBoundary | kCorner)) != 0 || mesh.is_boundary(v);
+}
+
+// True if triangle t, seen as `tv` (r replaced by k), spans a strip between
+// feature curves narrower than the size: its three vertices on feature
+// curves, its height in the metric (twice its metric area over its longest
+// metric edge) below OperatorOptions::strip_width.
+bool spans_narrow_strip(const AdaptedMesh& m, Triangle t, const TriangleView& tv, Vertex r, Vertex k,
+                        const OperatorOptions& o) {
+  if (!(o.strip_width > 0)) return false;
+  for (int i = 0; i < 3; ++i) {
+    const Vertex w = m.mesh().vertex(t, i);
+    if (!on_feature(m.mesh(), w == r ? k : w)) return false;
+  }
+  std::array<double, 3> l;
+  for (int i = 0; i < 3; ++i) l[i] = m.length(tv.x[i], tv.M[i], tv.x[(i + 1) % 3], tv.M[(i + 1) % 3]);
+  const double s = 0.5 * (l[0] + l[1] + l[2]);
+  const double area2 = s * (s - l[0]) * (s - l[1]) * (s - l[2]);  // Heron, squared
+  const double longest = std::max({l[0], l[1], l[2]});
+  return longest > 0 && 2 * std::sqrt(std::max(0.0, area2)) / longest < o.strip_width;
+}
+
+// The eq. 17 quality q of triangle t seen as `tv` (r replaced by k) as the
+// collapse and move tests count it: 1 (no bound) across a narrow strip
+// (OperatorOptions::strip_width), tested only below collapse_quality.
+template <class View>
+double counted_quality(double q, const AdaptedMesh& m, Triangle t, View&& tv, Vertex r, Vertex k,
+                       const OperatorOptions& o) {
+  return q < o.collapse_quality && spans_narrow_strip(m, t, tv(), r, k, o) ? 1.0 : q;
+}
+
 // The worst quality of the two fans of an edge before a collapse, measured
 // at most once for the options of one edge (worst_fan_quality is symmetric).
 struct FanQuality {
@@ -579,7 +612,7 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
       const Rejection why = check_triangle(tv.x[0], tv.x[1], tv.x[2], reference_normal(m, t), tv.n, lim, false,
                                            degenerate_limit(height_ratio(mesh, t)));
       if (why != Rejection::None) return why;
-      q_new = std::min(q_new, m.quality(tv.x, tv.M));
+      q_new = std::min(q_new, counted_quality(m.quality(tv.x, tv.M), m, t, [&] { return tv; }, r, k, o));
       any = true;
       new_triangles.push_back(tv);
     }
@@ -903,7 +936,9 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
   for (Corner x : fan) {
     old_n.push_back(reference_normal(m, M::triangle(x)));
     old_limit.push_back(degenerate_limit(height_ratio(m.mesh(), M::triangle(x))));
-    plan.quality_before = std::min(plan.quality_before, m.quality(M::triangle(x)));
+    const Triangle t = M::triangle(x);
+    const auto current = [&] { return view(m, t, Vertex(), Vertex(), {}); };
+    plan.quality_before = std::min(plan.quality_before, counted_quality(m.quality(t), m, t, current, {}, {}, o));
   }
   // The current lengths of the incident edges (the length filter compares with them).
   std::vector<double> old_len;
@@ -921,13 +956,14 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
     for (std::size_t i = 0; i < fan.size() && last == Rejection::None; ++i) {
       const TriangleView tv = view(m, M::triangle(fan[i]), v, Vertex(), at);
       last = check_triangle(tv.x[0], tv.x[1], tv.x[2], old_n[i], tv.n, lim, false, old_limit[i]);
-      q = std::min(q, m.quality(tv.x, tv.M));
+      q = std::min(q, counted_quality(m.quality(tv.x, tv.M), m, M::triangle(fan[i]), [&] { return tv; }, {}, {}, o));
     }
     if (last != Rejection::None) continue;
     for (std::size_t i = 0; i < ring.size() && last == Rejection::None; ++i) {
       const Vertex w = ring[i];
       const double l_new = m.length(at.position, at.values.metric, mesh.position(w), m.metric(w));
       if (l_new > o.lmax && l_new > old_len[i]) last = Rejection::Length;
+      if (o.move_keeps_lmin && l_new < o.lmin && old_len[i] >= o.lmin) last = Rejection::Length;
     }
     if (last != Rejection::None) continue;
     if (kind == VertexKind::Curve) {

@@ -90,6 +90,15 @@ struct OperatorOptions {
   // Collapse: the worst new quality must be at least the worst old quality
   // or this threshold (section 5.1's metric check).
   double collapse_quality = 0.3;
+  // Collapse and move: a triangle whose three vertices lie on feature
+  // curves and whose height in the metric is below strip_width spans a
+  // strip between two curves narrower than the size (a blunt trailing edge,
+  // the side of a thin plate): there every triangle is a needle, whatever
+  // the operators do. Its quality does not count against collapse_quality
+  // or the move's quality test (it must still be valid: check_triangle),
+  // so the curves along the strip are coarsened to the size as elsewhere.
+  // 0: every triangle counts.
+  double strip_width = 0.5;
   // Collapse: an edge shorter than this in the metric (far below lmin: a
   // coarsening, where the next collapses and the smoothing place the
   // vertices again) first tries keeping an end where it is, which needs no
@@ -112,6 +121,9 @@ struct OperatorOptions {
   // the worst old one (1: the report's "greater than"; below 1: Remark 4's
   // relaxed first passes).
   double move_quality_factor = 1.0;
+  // Move: refused when it shortens an edge of lmin or more below lmin (set
+  // by the final smoothing, after which no collapse removes such an edge).
+  bool move_keeps_lmin = false;
 };
 
 // --- edge split (section 5.3) -------------------------------------------------

@@ -510,7 +510,7 @@ void Remesher::swap_pass(PassReport& r) {
   again.clear();
 }
 
-void Remesher::smooth_pass(PassReport& r, double visit_below) {
+void Remesher::smooth_pass(PassReport& r, double visit_below, bool keep_lmin) {
   SurfaceMesh& mesh = mesh_.mesh();
   // The worst quality of v's fan is below visit_below.
   auto worth_visiting = [&](Vertex v) {
@@ -521,6 +521,7 @@ void Remesher::smooth_pass(PassReport& r, double visit_below) {
   };
   OperatorOptions o = options_.op;
   if (smoothing_done_ < options_.relaxed_smoothing_passes) o.move_quality_factor = options_.relaxed_quality_factor;
+  o.move_keeps_lmin = keep_lmin;
   std::vector<std::uint8_t> active(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
   smooth_active_.resize(active.size(), 0);
   active.swap(smooth_active_);
@@ -570,7 +571,7 @@ void Remesher::final_pass(PassReport& r) {
   mark_all();
   for (int p = 0; p < options_.final_smoothing_passes && !r.interrupted; ++p) {
     const int before = r.moves;
-    smooth_pass(r, p < options_.final_full_passes ? INFINITY : options_.final_visit_quality);
+    smooth_pass(r, p < options_.final_full_passes ? INFINITY : options_.final_visit_quality, options_.final_keeps_lmin);
     if (r.moves == before) break;
   }
   if (!r.interrupted) bound_distance(r);

@@ -52,6 +52,10 @@ struct RemeshOptions {
   // 3e-4, moves of fans above 0.9 raised their worst quality by < 1e-3).
   int final_full_passes = 3;
   double final_visit_quality = 0.9;
+  // The final smoothing moves no vertex that would shorten an edge below
+  // lmin (OperatorOptions::move_keeps_lmin): no collapse follows it to
+  // remove such an edge (ours, not the report's).
+  bool final_keeps_lmin = true;
   int cache_size = 10;               // Remark 5: the last 10 modifications
   int relaxed_smoothing_passes = 4;  // Remark 4: the first passes accept a slightly worse quality
   double relaxed_quality_factor = 0.9;
@@ -311,8 +315,9 @@ class Remesher {
   Vertex apply(PassReport& r, Corner c, const CollapsePlan& plan, bool follow_new_edges);
   void swap_pass(PassReport& r);
   // Visits the marked vertices (all of them: visit_below > 1) or those of
-  // them with a triangle of quality below visit_below in their fan.
-  void smooth_pass(PassReport& r, double visit_below = INFINITY);
+  // them with a triangle of quality below visit_below in their fan;
+  // `keep_lmin`: OperatorOptions::move_keeps_lmin.
+  void smooth_pass(PassReport& r, double visit_below = INFINITY, bool keep_lmin = false);
   void final_pass(PassReport& r);
   // The end of the final pass with a distance bound (RemeshOptions::
   // distance_bound): the sweeps of splits onto the input.
