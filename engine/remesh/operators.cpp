@@ -545,19 +545,28 @@ bool on_feature(const SurfaceMesh& mesh, Vertex v) {
   return (mesh.vertex_tags(v) & (kRidge | kBoundary | kCorner)) != 0 || mesh.is_boundary(v);
 }
 
-// True if triangle t, seen as `tv` (r replaced by k), spans a strip between
-// feature curves narrower than the size: its three vertices on feature
-// curves, its height in the metric (twice its metric area over its longest
-// metric edge) below OperatorOptions::strip_width.
-bool spans_narrow_strip(const AdaptedMesh& m, Triangle t, const TriangleView& tv, Vertex r, Vertex k,
-                        const OperatorOptions& o) {
+// True if triangle t, seen as `tv` (r replaced by k), is a needle that no
+// operator can avoid (OperatorOptions::strip_width): it spans a strip
+// between feature curves narrower than the size (its three vertices on
+// feature curves, its height in the metric, twice its metric area over its
+// longest metric edge, below strip_width), or it stands on an edge shorter
+// than lmin between two corners, which no collapse removes (an isolated
+// sharp edge shorter than the size).
+bool is_forced_needle(const AdaptedMesh& m, Triangle t, const TriangleView& tv, Vertex r, Vertex k,
+                      const OperatorOptions& o) {
   if (!(o.strip_width > 0)) return false;
+  const SurfaceMesh& mesh = m.mesh();
+  std::array<Vertex, 3> w;
   for (int i = 0; i < 3; ++i) {
-    const Vertex w = m.mesh().vertex(t, i);
-    if (!on_feature(m.mesh(), w == r ? k : w)) return false;
+    w[i] = mesh.vertex(t, i);
+    if (w[i] == r) w[i] = k;
   }
   std::array<double, 3> l;
   for (int i = 0; i < 3; ++i) l[i] = m.length(tv.x[i], tv.M[i], tv.x[(i + 1) % 3], tv.M[(i + 1) % 3]);
+  for (int i = 0; i < 3; ++i)
+    if (l[i] < o.lmin && mesh.has_tag(w[i], kCorner) && mesh.has_tag(w[(i + 1) % 3], kCorner)) return true;
+  for (int i = 0; i < 3; ++i)
+    if (!on_feature(mesh, w[i])) return false;
   const double s = 0.5 * (l[0] + l[1] + l[2]);
   const double area2 = s * (s - l[0]) * (s - l[1]) * (s - l[2]);  // Heron, squared
   const double longest = std::max({l[0], l[1], l[2]});
@@ -565,12 +574,12 @@ bool spans_narrow_strip(const AdaptedMesh& m, Triangle t, const TriangleView& tv
 }
 
 // The eq. 17 quality q of triangle t seen as `tv` (r replaced by k) as the
-// collapse and move tests count it: 1 (no bound) across a narrow strip
-// (OperatorOptions::strip_width), tested only below collapse_quality.
+// collapse and move tests count it: 1 (no bound) for a forced needle
+// (is_forced_needle), tested only below collapse_quality.
 template <class View>
 double counted_quality(double q, const AdaptedMesh& m, Triangle t, View&& tv, Vertex r, Vertex k,
                        const OperatorOptions& o) {
-  return q < o.collapse_quality && spans_narrow_strip(m, t, tv(), r, k, o) ? 1.0 : q;
+  return q < o.collapse_quality && is_forced_needle(m, t, tv(), r, k, o) ? 1.0 : q;
 }
 
 // The worst quality of the two fans of an edge before a collapse, measured

@@ -90,14 +90,15 @@ struct OperatorOptions {
   // Collapse: the worst new quality must be at least the worst old quality
   // or this threshold (section 5.1's metric check).
   double collapse_quality = 0.3;
-  // Collapse and move: a triangle whose three vertices lie on feature
-  // curves and whose height in the metric is below strip_width spans a
-  // strip between two curves narrower than the size (a blunt trailing edge,
-  // the side of a thin plate): there every triangle is a needle, whatever
-  // the operators do. Its quality does not count against collapse_quality
-  // or the move's quality test (it must still be valid: check_triangle),
-  // so the curves along the strip are coarsened to the size as elsewhere.
-  // 0: every triangle counts.
+  // Collapse and move: needles no operator can avoid, where the input is
+  // narrower than the size, do not count against collapse_quality or the
+  // move's quality test (they must still be valid: check_triangle), so the
+  // mesh around them is coarsened to the size as elsewhere. They are the
+  // triangles whose three vertices lie on feature curves and whose height
+  // in the metric is below strip_width (a strip between two curves: a
+  // blunt trailing edge, the side of a thin plate, one layer of needles
+  // along it), and those on an edge shorter than lmin between two corners
+  // (an isolated sharp edge shorter than the size). 0: every triangle counts.
   double strip_width = 0.5;
   // Collapse: an edge shorter than this in the metric (far below lmin: a
   // coarsening, where the next collapses and the smoothing place the
