@@ -733,6 +733,11 @@ void Remesher::bound_distance(PassReport& r) {
   for (int sweep = 0; sweep < options_.bound_sweeps; ++sweep) {
     const std::vector<BeyondBound> beyond = edges_beyond_bound(sweep == 0 ? nullptr : &added);
     if (sweep == 0) r.beyond_bound = static_cast<int>(beyond.size());
+    // The last sweep's splits left more beyond the bound around them than
+    // they added vertices: the splits no longer converge (a fillet curved
+    // too tightly for the size, where each split of a longest edge leaves
+    // two triangles as far off): the sweeps stop there.
+    if (sweep > 0 && beyond.size() > added.size()) break;
     added.clear();
     for (const BeyondBound& it : beyond) {
       if (interrupted(r) || splits_in_all >= budget) break;
