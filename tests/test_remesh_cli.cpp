@@ -100,6 +100,8 @@ TEST_CASE("anisurf adapt: bad command lines exit with 2, bad inputs with 1, noth
   CHECK(status == 2);
   adapt("'" + mesh + "' --size 0.1 --lmin 2 --lmax 1 -o '" + out + "'", &status);
   CHECK(status == 2);
+  adapt("'" + mesh + "' --size 0.1 --strip-width -1 -o '" + out + "'", &status);
+  CHECK(status == 2);
   adapt("'" + mesh + "' --sol '" + (dir / "missing.sol").string() + "' -o '" + out + "'", &status);
   CHECK(status == 1);
   adapt("'" + mesh + "' --size '0 - 1' -o '" + out + "'", &status);
