@@ -191,3 +191,42 @@ def test_threads_remesh_by_regions_with_the_serial_figures():
     assert np.all(counts == 2)
     with pytest.raises(ValueError, match="threads"):
         anisurf.adapt(vertices, triangles, size=h, threads=-1)
+
+
+def thin_slab(t, n):
+    """The closed slab [0, 1] x [0, 1] x [0, t], each face a grid of squares (sides n x 1) in two triangles."""
+    index, vertices, triangles = {}, [], []
+
+    def vertex(p):
+        key = tuple(round(x * 1e9) for x in p)
+        if key not in index:
+            index[key] = len(vertices)
+            vertices.append(p)
+        return index[key]
+
+    def face(o, u, v, nu, nv):
+        o, u, v = (np.asarray(x, dtype=float) for x in (o, u, v))
+        for i in range(nu):
+            for j in range(nv):
+                p = [vertex(o + (a / nu) * u + (b / nv) * v) for a, b in ((i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1))]
+                triangles.extend([(p[0], p[1], p[2]), (p[0], p[2], p[3])])
+
+    x, y, z = (1, 0, 0), (0, 1, 0), (0, 0, t)
+    face((0, 0, 0), y, x, n, n)
+    face((0, 0, t), x, y, n, n)
+    face((0, 0, 0), x, z, n, 1)
+    face((0, 1, 0), z, x, 1, n)
+    face((0, 0, 0), z, y, 1, n)
+    face((1, 0, 0), y, z, n, 1)
+    return np.array(vertices), np.array(triangles, dtype=np.int32)
+
+
+def test_strip_width_lets_the_ridges_of_a_thin_plate_coarsen():
+    vertices, triangles = thin_slab(0.01, 40)
+    default = anisurf.adapt(vertices, triangles, size=0.1, threads=1)
+    off = anisurf.adapt(vertices, triangles, size=0.1, threads=1, strip_width=0)
+    assert default.quality["inverted"] == 0
+    assert default.lengths["in_band_pct"] >= 90
+    assert off.lengths["in_band_pct"] < default.lengths["in_band_pct"] - 20
+    with pytest.raises(ValueError, match="strip_width"):
+        anisurf.adapt(vertices, triangles, size=0.1, strip_width=-1)
