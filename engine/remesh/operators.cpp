@@ -548,10 +548,10 @@ bool on_feature(const SurfaceMesh& mesh, Vertex v) {
 // True if triangle t, seen as `tv` (r replaced by k), is a needle that no
 // operator can avoid (OperatorOptions::strip_width): it spans a strip
 // between feature curves narrower than the size (its three vertices on
-// feature curves, its height in the metric, twice its metric area over its
-// longest metric edge, below strip_width), or it stands on an edge shorter
-// than lmin between two corners, which no collapse removes (an isolated
-// sharp edge shorter than the size).
+// feature curves, one of its edges along one, its height in the metric,
+// twice its metric area over its longest metric edge, below strip_width),
+// or it stands on an edge shorter than lmin between two corners, which no
+// collapse removes (an isolated sharp edge shorter than the size).
 bool is_forced_needle(const AdaptedMesh& m, Triangle t, const TriangleView& tv, Vertex r, Vertex k,
                       const OperatorOptions& o) {
   if (!(o.strip_width > 0)) return false;
@@ -567,6 +567,9 @@ bool is_forced_needle(const AdaptedMesh& m, Triangle t, const TriangleView& tv, 
     if (l[i] < o.lmin && mesh.has_tag(w[i], kCorner) && mesh.has_tag(w[(i + 1) % 3], kCorner)) return true;
   for (int i = 0; i < 3; ++i)
     if (!on_feature(mesh, w[i])) return false;
+  int along_curves = 0;  // t's edges keep their tags through a collapse of r into k
+  for (int i = 0; i < 3; ++i) along_curves += is_feature_edge(mesh, M::corner(t, i)) ? 1 : 0;
+  if (along_curves != 1) return false;
   const double s = 0.5 * (l[0] + l[1] + l[2]);
   const double area2 = s * (s - l[0]) * (s - l[1]) * (s - l[2]);  // Heron, squared
   const double longest = std::max({l[0], l[1], l[2]});
@@ -972,7 +975,8 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
       const Vertex w = ring[i];
       const double l_new = m.length(at.position, at.values.metric, mesh.position(w), m.metric(w));
       if (l_new > o.lmax && l_new > old_len[i]) last = Rejection::Length;
-      if (o.move_keeps_lmin && l_new < o.lmin && old_len[i] >= o.lmin) last = Rejection::Length;
+      if (o.move_keeps_lmin && plan.quality_before >= o.keep_lmin_quality && l_new < o.lmin && old_len[i] >= o.lmin)
+        last = Rejection::Length;
     }
     if (last != Rejection::None) continue;
     if (kind == VertexKind::Curve) {

@@ -94,11 +94,12 @@ struct OperatorOptions {
   // narrower than the size, do not count against collapse_quality or the
   // move's quality test (they must still be valid: check_triangle), so the
   // mesh around them is coarsened to the size as elsewhere. They are the
-  // triangles whose three vertices lie on feature curves and whose height
-  // in the metric is below strip_width (a strip between two curves: a
-  // blunt trailing edge, the side of a thin plate, one layer of needles
-  // along it), and those on an edge shorter than lmin between two corners
-  // (an isolated sharp edge shorter than the size). 0: every triangle counts.
+  // triangles whose three vertices lie on feature curves, one edge along
+  // one, and whose height in the metric is below strip_width (a strip
+  // between two curves: a blunt trailing edge, the side of a thin plate,
+  // one layer of needles along it), and those on an edge shorter than lmin
+  // between two corners (an isolated sharp edge shorter than the size).
+  // 0: every triangle counts.
   double strip_width = 0.5;
   // Collapse: an edge shorter than this in the metric (far below lmin: a
   // coarsening, where the next collapses and the smoothing place the
@@ -122,9 +123,12 @@ struct OperatorOptions {
   // the worst old one (1: the report's "greater than"; below 1: Remark 4's
   // relaxed first passes).
   double move_quality_factor = 1.0;
-  // Move: refused when it shortens an edge of lmin or more below lmin (set
-  // by the final smoothing, after which no collapse removes such an edge).
+  // Move: refused when it shortens an edge of lmin or more below lmin and
+  // the worst quality of the vertex's fan is keep_lmin_quality or more (set
+  // by the final smoothing, after which no collapse removes such an edge; a
+  // fan with a worse triangle may still trade a length for its quality).
   bool move_keeps_lmin = false;
+  double keep_lmin_quality = 0.5;
 };
 
 // --- edge split (section 5.3) -------------------------------------------------

@@ -53,8 +53,9 @@ struct RemeshOptions {
   int final_full_passes = 3;
   double final_visit_quality = 0.9;
   // The final smoothing moves no vertex that would shorten an edge below
-  // lmin (OperatorOptions::move_keeps_lmin): no collapse follows it to
-  // remove such an edge (ours, not the report's).
+  // lmin, unless its fan holds a triangle below keep_lmin_quality
+  // (OperatorOptions::move_keeps_lmin): no collapse follows it to remove
+  // such an edge (ours, not the report's).
   bool final_keeps_lmin = true;
   int cache_size = 10;               // Remark 5: the last 10 modifications
   int relaxed_smoothing_passes = 4;  // Remark 4: the first passes accept a slightly worse quality
