@@ -140,7 +140,7 @@ TEST_CASE("remesh by regions: valid, in band, uninverted, like the serial run, t
     for (const PassReport& r : passes) regions.insert(r.region);
     // Every region, then the band (numbered after them), or the whole mesh.
     if (threads > 1) {
-      CHECK(regions_expected == 2 * threads);
+      CHECK(regions_expected == ParallelOptions{}.regions_per_thread * threads);
       CHECK(static_cast<int>(regions.size()) == regions_expected + 1);
       CHECK(*regions.rbegin() == regions_expected);
     }

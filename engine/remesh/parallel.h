@@ -25,7 +25,7 @@ struct ParallelOptions {
   // Regions per thread, taken in turn by the threads as they finish: the
   // predicted work of a region (its output) is not its time, which depends
   // on how far the metric is from the mesh.
-  int regions_per_thread = 2;
+  int regions_per_thread = 3;
   // A coarsening (the predicted output under half the input's triangles)
   // takes this many regions per thread instead: its work is the collapses,
   // whose cost in a region depends on how many rounds the region takes to
