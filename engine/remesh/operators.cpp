@@ -642,11 +642,8 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
   // before (measured only then: most collapses clear the threshold).
   if (q_new < o.collapse_quality && q_new < fan_quality.get(m, r, k)) return Rejection::Quality;
   // New edges across the surface stay on it (feature edges: the curve test).
-  // With k in place, the edges to the apexes of the collapsed edge's
-  // triangles are k's own already: not new, not measured.
-  const Vertex apex = mesh.vertex(c), other_apex = mesh.is_boundary_edge(c) ? Vertex() : mesh.vertex(mesh.opposite(c));
   for (Vertex n : mesh.ring_vertices(r)) {
-    if (n == k || (!moves && (n == apex || n == other_apex))) continue;
+    if (n == k) continue;
     const Corner e = find_edge_corner(mesh, r, n);
     if (e.is_valid() && is_feature_edge(mesh, e)) continue;
     if (sags_off_input(m, p.position, p.values.metric, p.normal, k, mesh.position(n), m.metric(n), m.surface_normal(n), n,
@@ -1033,12 +1030,6 @@ bool sags_off_input(AdaptedMesh& m, const Vec3& pa, const SymTensor3& Ma, const 
   if (norm2(na) > 0 && norm2(nb) > 0) {
     const double theta = vector_angle(na, nb);
     if (len * theta < 2 * tol) return false;
-    // The cubic between the ends with its tangents in their tangent planes
-    // (section 3's edge curve) sags by |(d.nb) nb - (d.na) na| / 8 at its
-    // middle; far below the tolerance (a quarter), no projection either.
-    const Vec3 d = pb - pa;
-    const Vec3 ua = normalized(na), ub = normalized(nb);
-    if (norm(dot(d, ub) * ub - dot(d, ua) * ua) < 2 * tol) return false;
   }
   // The midpoint against the point a new vertex there would take (on the
   // smooth surface, within the input bound): the segment's chordal sag.
