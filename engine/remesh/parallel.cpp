@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <exception>
+#include <future>
 #include <memory>
 #include <mutex>
 #include <span>
@@ -270,7 +271,15 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     triangles += r.mesh.n_triangles();
   }
   mesh.reserve(vertices, triangles);
+  // A set-aside region's links (SurfaceMesh::restore_links) are found again
+  // on a second thread while the region before it is pasted.
+  auto restore_links_of = [&regions](int k) {
+    return std::async(std::launch::async, [&regions, k] { regions[static_cast<std::size_t>(k)].mesh.restore_links(); });
+  };
+  std::future<void> next_links = restore_links_of(0);
   for (int k = 0; k < n; ++k) {
+    next_links.get();
+    if (k + 1 < n) next_links = restore_links_of(k + 1);
     Region& r = regions[static_cast<std::size_t>(k)];
     seeds.insert(seeds.end(), r.border.begin(), r.border.end());
     paste_region(mesh, part, k, std::move(r));
