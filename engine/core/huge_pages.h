@@ -29,14 +29,15 @@ inline void advise_whole_pages(const void* data, std::size_t bytes, std::uintptr
 // array then takes one page fault per 2 MB instead of one per 4 KB (page
 // faults are slow on virtual machines), and random accesses miss the TLB
 // less.
-// Arrays under 4 MB are left alone; elsewhere a no-op.
-inline void advise_huge_pages(const void* data, std::size_t bytes) {
+// Arrays under min_bytes (16 MB unless given) are left alone; elsewhere a no-op.
+inline void advise_huge_pages(const void* data, std::size_t bytes, std::size_t min_bytes = std::size_t{16} << 20) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
   constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
-  if (bytes >= 8 * kHuge) detail::advise_whole_pages(data, bytes, kHuge, MADV_HUGEPAGE);
+  if (bytes >= min_bytes) detail::advise_whole_pages(data, bytes, kHuge, MADV_HUGEPAGE);
 #else
   (void)data;
   (void)bytes;
+  (void)min_bytes;
 #endif
 }
 
