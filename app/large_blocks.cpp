@@ -1,13 +1,14 @@
 // The program's global operator new and delete: malloc and free, with the
-// large blocks (4 MB and more: the mesh's arrays, the regions' copies, the
-// search structures) asked to be backed by transparent huge pages
-// (core/huge_pages.h). glibc maps such blocks on their own and unmaps them
-// when freed (main.cpp sets the threshold), so every pass that allocates a
-// new array faults its pages in again: one fault per 4 KB page, slow on
-// virtual machines, where a fault costs microseconds; one per 2 MB with huge
-// pages. The memory is the same (a block's partial huge pages at its ends
-// stay small pages). The engine library and the tests keep the standard
-// functions.
+// pages of fresh blocks faulted in cheaply. glibc maps each block of
+// kMappedBlock and more on its own and unmaps it when freed, so every pass
+// that allocates a new array faults its pages in again, one fault per 4 KB
+// page: slow on virtual machines, where a fault costs microseconds. Blocks
+// up to kPopulatedBlock are made resident in one call (MADV_POPULATE_WRITE);
+// blocks of kLargeBlock and more are asked to be backed by transparent huge
+// pages, one fault per 2 MB (core/huge_pages.h). The engine library and the
+// tests keep the standard functions.
+#include "large_blocks.h"
+
 #include <cstdlib>
 #include <new>
 
@@ -15,12 +16,18 @@
 
 namespace {
 
-constexpr std::size_t kLargeBlock = std::size_t{4} << 20;
+using anisurf::app::kLargeBlock;
+using anisurf::app::kMappedBlock;
+using anisurf::app::kPopulatedBlock;
 
 void* allocate(std::size_t n) {
   for (;;) {
     if (void* p = std::malloc(n == 0 ? 1 : n)) {
-      if (n >= kLargeBlock) anisurf::advise_huge_pages(p, n, kLargeBlock);
+      if (n >= kLargeBlock) {
+        anisurf::advise_huge_pages(p, n, kLargeBlock);
+      } else if (n >= kMappedBlock && n < kPopulatedBlock) {
+        anisurf::populate_pages(p, n);
+      }
       return p;
     }
     const std::new_handler handler = std::get_new_handler();

@@ -1,5 +1,6 @@
 // anisurf: anisotropic surface mesh adaptation (the program's entry point).
 #include "cli/cli.h"
+#include "large_blocks.h"
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
@@ -14,8 +15,9 @@ int main(int argc, char** argv) {
   // system when freed. glibc's default raises that threshold after the first
   // large free (up to 32 MB), after which the buffers a growing mesh leaves
   // behind stay resident in the heap: ~10% more peak memory on the large
-  // refinements (bench/bench_remesh.py).
-  mallopt(M_MMAP_THRESHOLD, 256 * 1024);
+  // refinements (bench/bench_remesh.py). large_blocks.cpp makes their
+  // pages resident in one call, or backs them with huge pages.
+  mallopt(M_MMAP_THRESHOLD, static_cast<int>(anisurf::app::kMappedBlock));
   // Smaller blocks come from the heap, whose free top glibc gives back to
   // the system beyond 128 KB: the next pass then faults the same pages in
   // again, one by one (slow on virtual machines: 20% of a 0.4 s run's time).
