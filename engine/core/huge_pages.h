@@ -43,8 +43,9 @@ inline void advise_huge_pages(const void* data, std::size_t bytes, std::size_t m
 
 // Makes the whole pages inside [data, data + bytes) resident and writable
 // at once (Linux 5.14+ madvise MADV_POPULATE_WRITE: one call instead of a
-// page fault per 4 KB page as a fresh array is first written). Only for
-// memory about to be written in full: the pages count as used from then on.
+// page fault per 4 KB page as a fresh array is first written). For memory
+// about to be written: the pages count as used from then on, written or not
+// (the program's operator new populates only blocks under 1 MB for that).
 // Elsewhere, and on older kernels, a no-op.
 inline void populate_pages(const void* data, std::size_t bytes) {
 #if defined(__linux__)
