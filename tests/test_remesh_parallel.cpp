@@ -19,6 +19,7 @@
 #include "remesh/parallel.h"
 #include "remesh/partition.h"
 #include "remesh/partition.h"
+#include "test_geometry_util.h"
 #include "test_util.h"
 
 using namespace anisurf;
@@ -33,16 +34,20 @@ struct Setup {
   std::unique_ptr<AdaptedMesh> adapted;
 };
 
-std::unique_ptr<Setup> make_setup(const std::string& path, double size) {
+std::unique_ptr<Setup> make_setup(SurfaceMesh input, double size) {
   auto s = std::make_unique<Setup>();
-  BuildReport report;
-  s->input = load_mesh(path, &report);
+  s->input = std::move(input);
   detect_features(s->input);
   MetricField metric(static_cast<std::size_t>(s->input.vertex_capacity()), isotropic_metric(size));
   s->geometry = make_geometry(s->input, SurfaceKind::G1);
   s->control = std::make_unique<ControlSpace>(s->input, metric, true, MetricInterpolation::LinearSize);
   s->adapted = std::make_unique<AdaptedMesh>(s->input, *s->geometry, *s->control);
   return s;
+}
+
+std::unique_ptr<Setup> make_setup(const std::string& path, double size) {
+  BuildReport report;
+  return make_setup(load_mesh(path, &report), size);
 }
 
 // The invariants, and the sphere still closed with one vertex a position.
@@ -130,6 +135,7 @@ TEST_CASE("remesh by regions: valid, in band, uninverted, like the serial run, t
     p.threads = threads;
     p.min_region_work = 500;  // the demo is small: regions anyway, two rounds of them
     p.min_round_work = 500;
+    p.band_pieces = false;  // the band whole (in pieces: the next test)
     RemeshOptions o = band_remesh_options();
     const int regions_expected = region_count(*s->adapted, p);
     std::vector<PassReport> passes = run_in_regions(*s->adapted, o, p);
@@ -158,6 +164,45 @@ TEST_CASE("remesh by regions: valid, in band, uninverted, like the serial run, t
     CHECK(std::abs(state.vertices - serial.vertices) <= 0.05 * serial.vertices);
     const auto again = run(threads);
     CHECK(std::get<2>(again) == pos);
+  }
+}
+
+TEST_CASE("remesh by regions: a coarsening's band in pieces, then the band of their seams, keeps the figures of the whole band") {
+  // An icosphere of 20480 triangles (edges ~0.033) coarsened to size 0.12
+  // (~2000 triangles), its band split between the threads (each piece of
+  // 200 work at least), against the same run with the band whole.
+  auto run = [](int threads, bool pieces) {
+    auto s = make_setup(test::build(test::icosphere(5)), 0.12);
+    ParallelOptions p;
+    p.threads = threads;
+    p.min_region_work = 500;
+    p.min_round_work = 500;
+    p.band_pieces = pieces;
+    p.min_piece_work = 200;
+    RemeshOptions o = band_remesh_options();
+    const int n = region_count(*s->adapted, p);
+    std::vector<PassReport> passes = run_in_regions(*s->adapted, o, p);
+    check_valid(s->adapted->mesh(), "after the run");
+    CHECK(s->adapted->count_inverted() == 0);
+    std::set<int> regions;
+    for (const PassReport& r : passes) regions.insert(r.region);
+    return std::make_tuple(Remesher(*s->adapted, o).measure(), n, regions, positions(s->adapted->mesh()));
+  };
+  for (int threads : {2, 3}) {
+    CAPTURE(threads);
+    const auto [whole, n_whole, regions_whole, pos_whole] = run(threads, false);
+    const auto [split, n, regions, pos] = run(threads, true);
+    // The regions, the pieces (one per thread), then the band of the seams.
+    CHECK(static_cast<int>(regions_whole.size()) == n_whole + 1);
+    CHECK(static_cast<int>(regions.size()) == n + threads + 1);
+    CHECK(*regions.rbegin() == n + threads);
+    CHECK(split.in_band_share >= whole.in_band_share - 0.01);
+    CHECK(split.length_max <= 1.6);
+    CHECK(split.q_min >= 0.5 * whole.q_min);
+    CHECK(split.q_mean >= whole.q_mean - 0.02);
+    CHECK(std::abs(split.vertices - whole.vertices) <= 0.05 * whole.vertices);
+    CHECK(pos != pos_whole);  // the pieces did remesh the band otherwise
+    CHECK(std::get<3>(run(threads, true)) == pos);
   }
 }
 

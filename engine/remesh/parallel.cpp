@@ -176,6 +176,121 @@ int count_for(const AdaptedMesh& m, const ParallelOptions& p, double work) {
   return n / p.threads * p.threads;
 }
 
+// Cuts the parts 0..n-1 of `part` out of m, remeshes each with
+// options_of(k) on `threads` threads (which take them in turn, the first on
+// this one) and pastes them back in order. Their passes go to `out` (region
+// index_base + k), their border vertices to *borders when given. With
+// `reserve`, m's arrays first make room for all the parts' elements (a
+// refinement's regions, which outgrow the slots they free); else the parts
+// fill the slots they free first (the band's pieces, adapted already but
+// for their middle: reserving would copy m's arrays for nothing). False
+// when a part went over its growth limits: m is then as it was, that
+// part's passes last in `out`.
+bool remesh_parts(AdaptedMesh& m, std::vector<int>& part, int n,
+                  const std::function<RemeshOptions(int)>& options_of, int threads, bool reserve, int index_base,
+                  const std::function<void(const PassReport&)>& progress, std::vector<Vertex>* borders,
+                  std::vector<PassReport>& out) {
+  std::vector<Region> regions(static_cast<std::size_t>(n));
+  std::vector<std::vector<PassReport>> passes(static_cast<std::size_t>(n));
+  std::vector<std::exception_ptr> errors(static_cast<std::size_t>(n));
+  auto work_on = [&](int k) {
+    const auto i = static_cast<std::size_t>(k);
+    try {
+      regions[i] = cut_region(m.mesh(), part, k);
+      const std::unique_ptr<GeometrySurface> geometry = m.geometry().copy_for_thread();
+      const std::unique_ptr<ControlSpace> control = m.control().copy_for_thread();
+      passes[i] = remesh_region(m, regions[i], *geometry, *control, options_of(k), index_base + k, progress);
+      set_aside(regions[i]);  // smaller while the others run
+    } catch (...) {
+      errors[i] = std::current_exception();
+    }
+  };
+  {
+    std::atomic<int> next{0};
+    auto worker = [&] {
+      for (int k = next++; k < n; k = next++) work_on(k);
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < std::min(threads, n); ++t) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+  }
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+
+  for (int k = 0; k < n; ++k)
+    if (over_limit(passes[static_cast<std::size_t>(k)])) {  // the mesh stays as it was
+      for (int j = 0; j < n; ++j)
+        if (j != k) out.insert(out.end(), passes[static_cast<std::size_t>(j)].begin(), passes[static_cast<std::size_t>(j)].end());
+      out.insert(out.end(), passes[static_cast<std::size_t>(k)].begin(), passes[static_cast<std::size_t>(k)].end());
+      return false;
+    }
+
+  agree_on_metric_storage(m, regions);
+  SurfaceMesh& mesh = m.mesh();
+  if (reserve) {
+    int vertices = mesh.vertex_capacity(), triangles = mesh.triangle_capacity();
+    for (const Region& r : regions) {
+      vertices += r.mesh.n_vertices();
+      triangles += r.mesh.n_triangles();
+    }
+    mesh.reserve(vertices, triangles);
+  }
+  // A set-aside region's links (SurfaceMesh::restore_links) are found again
+  // on a second thread while the region before it is pasted.
+  auto restore_links_of = [&regions](int k) {
+    return std::async(std::launch::async, [&regions, k] { regions[static_cast<std::size_t>(k)].mesh.restore_links(); });
+  };
+  std::future<void> next_links = restore_links_of(0);
+  for (int k = 0; k < n; ++k) {
+    next_links.get();
+    if (k + 1 < n) next_links = restore_links_of(k + 1);
+    Region& r = regions[static_cast<std::size_t>(k)];
+    if (borders) borders->insert(borders->end(), r.border.begin(), r.border.end());
+    paste_region(mesh, part, k, std::move(r));
+    r = Region{};
+    give_back_freed_memory();
+    out.insert(out.end(), passes[static_cast<std::size_t>(k)].begin(), passes[static_cast<std::size_t>(k)].end());
+  }
+  return true;
+}
+
+// The pieces the band of a coarsening is remeshed in at once
+// (ParallelOptions::band_pieces): one per thread while each gets
+// min_piece_work, else 1 (the whole band).
+int band_piece_count(const AdaptedMesh& m, const std::vector<int>& band, const ParallelOptions& p, bool coarsening) {
+  if (p.threads <= 1 || !p.band_pieces || !coarsening) return 1;
+  double work = 0;
+  for (Triangle t : m.mesh().triangles())
+    if (band[static_cast<std::size_t>(t.idx)] == 0) work += triangle_work(m, t);
+  return std::clamp(static_cast<int>(work / std::max(p.min_piece_work, 1.0)), 1, p.threads);
+}
+
+// The vertices the pieces of the band leave to a band of their own: those of
+// the band's triangles that no piece holds, and the ends of the edges
+// between two pieces.
+std::vector<Vertex> seam_vertices(const SurfaceMesh& mesh, const std::vector<int>& band, const std::vector<int>& piece) {
+  std::vector<Vertex> out;
+  for (Triangle t : mesh.triangles()) {
+    const auto i = static_cast<std::size_t>(t.idx);
+    if (band[i] != 0) continue;
+    if (piece[i] < 0) {
+      for (int k = 0; k < 3; ++k) out.push_back(mesh.vertex(t, k));
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const Corner o = mesh.opposite(SurfaceMesh::corner(t, k));
+      if (!o.is_valid()) continue;
+      const int other = piece[static_cast<std::size_t>(SurfaceMesh::triangle(o).idx)];
+      if (other >= 0 && other != piece[i]) {
+        out.push_back(mesh.edge_from(SurfaceMesh::corner(t, k)));
+        out.push_back(mesh.edge_to(SurfaceMesh::corner(t, k)));
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<double> region_shares(const AdaptedMesh& m, const ParallelOptions& p, int n) {
@@ -190,6 +305,7 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
                                        const std::function<void(const PassReport&)>& progress) {
   const double predicted = p.threads <= 1 ? 0.0 : total_work(m);
   const int n = count_for(m, p, predicted);
+  const bool coarsening = is_coarsening(m, predicted);
   if (n <= 1) {
     Remesher remesher(m, options);
     return remesher.run(progress);
@@ -211,95 +327,64 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     if (k >= 0) work[static_cast<std::size_t>(k)] += w;
     total += w;
   }
-
-  // Each region cut, remeshed and handed back by the thread that takes it.
-  std::vector<Region> regions(static_cast<std::size_t>(n));
-  std::vector<std::vector<PassReport>> passes(static_cast<std::size_t>(n));
-  std::vector<std::exception_ptr> errors(static_cast<std::size_t>(n));
   std::mutex progress_mutex;
   const auto serial_progress = [&](const PassReport& r) {
     if (!progress) return;
     const std::lock_guard<std::mutex> lock(progress_mutex);
     progress(r);
   };
-  auto work_on = [&](int k) {
-    const auto i = static_cast<std::size_t>(k);
-    try {
-      regions[i] = cut_region(m.mesh(), part, k);
-      const std::unique_ptr<GeometrySurface> geometry = m.geometry().copy_for_thread();
-      const std::unique_ptr<ControlSpace> control = m.control().copy_for_thread();
-      RemeshOptions o = options;
-      const double share = total > 0 ? work[i] / total : 1.0 / n;
-      o.max_vertices = region_limit(options.max_vertices, share);
-      o.max_round_vertices = region_limit(options.max_round_vertices, share);
-      o.reserve_share = share;
-      passes[i] = remesh_region(m, regions[i], *geometry, *control, o, k, serial_progress);
-      set_aside(regions[i]);  // smaller while the others run
-    } catch (...) {
-      errors[i] = std::current_exception();
-    }
-  };
-  {
-    // The regions are taken in turn by the threads (the first on this one).
-    std::atomic<int> next{0};
-    auto worker = [&] {
-      for (int k = next++; k < n; k = next++) work_on(k);
-    };
-    std::vector<std::thread> threads;
-    for (int t = 1; t < std::min(p.threads, n); ++t) threads.emplace_back(worker);
-    worker();
-    for (std::thread& t : threads) t.join();
-  }
-  for (const std::exception_ptr& e : errors)
-    if (e) std::rethrow_exception(e);
-
   std::vector<PassReport> out;
-  for (int k = 0; k < n; ++k)
-    if (over_limit(passes[static_cast<std::size_t>(k)])) {  // the mesh stays as it was
-      for (int j = 0; j < n; ++j)
-        if (j != k) out.insert(out.end(), passes[static_cast<std::size_t>(j)].begin(), passes[static_cast<std::size_t>(j)].end());
-      out.insert(out.end(), passes[static_cast<std::size_t>(k)].begin(), passes[static_cast<std::size_t>(k)].end());
-      return out;
-    }
-
-  // Pasted back in order; the band around the borders is remeshed again.
-  agree_on_metric_storage(m, regions);
-  SurfaceMesh& mesh = m.mesh();
-  int vertices = mesh.vertex_capacity(), triangles = mesh.triangle_capacity();
-  for (const Region& r : regions) {
-    vertices += r.mesh.n_vertices();
-    triangles += r.mesh.n_triangles();
-  }
-  mesh.reserve(vertices, triangles);
-  // A set-aside region's links (SurfaceMesh::restore_links) are found again
-  // on a second thread while the region before it is pasted.
-  auto restore_links_of = [&regions](int k) {
-    return std::async(std::launch::async, [&regions, k] { regions[static_cast<std::size_t>(k)].mesh.restore_links(); });
+  const auto region_options = [&](int k) {
+    RemeshOptions o = options;
+    const double share = total > 0 ? work[static_cast<std::size_t>(k)] / total : 1.0 / n;
+    o.max_vertices = region_limit(options.max_vertices, share);
+    o.max_round_vertices = region_limit(options.max_round_vertices, share);
+    o.reserve_share = share;
+    return o;
   };
-  std::future<void> next_links = restore_links_of(0);
-  for (int k = 0; k < n; ++k) {
-    next_links.get();
-    if (k + 1 < n) next_links = restore_links_of(k + 1);
-    Region& r = regions[static_cast<std::size_t>(k)];
-    seeds.insert(seeds.end(), r.border.begin(), r.border.end());
-    paste_region(mesh, part, k, std::move(r));
-    r = Region{};
-    give_back_freed_memory();
-    out.insert(out.end(), passes[static_cast<std::size_t>(k)].begin(), passes[static_cast<std::size_t>(k)].end());
-  }
+  std::vector<Vertex> borders;
+  if (!remesh_parts(m, part, n, region_options, p.threads, true, 0, serial_progress, &borders, out)) return out;
+  seeds.insert(seeds.end(), borders.begin(), borders.end());
+  std::vector<Vertex>().swap(borders);
   std::vector<int>().swap(part);  // the band's own map replaces it
+
+  // The band around the borders, adapted already but for its middle: no
+  // relaxation, and no swaps toward valence 6 in the final pass (they may
+  // lower a triangle's quality for the smoothing to raise it again, which
+  // the band's frozen border prevents there; the regions made them).
+  SurfaceMesh& mesh = m.mesh();
   std::vector<int> band = band_around(mesh, seeds, p.band_rings);
   std::vector<Vertex>().swap(seeds);
   fill_pinched_fans(mesh, band);
+  RemeshOptions band_options = options;
+  band_options.relaxation_stages = 0;
+  band_options.valence_swaps = false;
+  // Pieces of the band at once, as the regions were, when it holds work
+  // for more than one thread: the seams between them (and the band's
+  // triangles no piece took) then make a band of their own, remeshed last.
+  const int pieces = band_piece_count(m, band, p, coarsening);
+  int index = n;
+  if (pieces > 1) {
+    std::vector<int> piece = partition_within(m, band, pieces);
+    for (int k = 0; k < pieces; ++k) drop_pinched_fans(mesh, piece, k);
+    std::vector<Vertex> seams = seam_vertices(mesh, band, piece);
+    const double band_triangles = static_cast<double>(std::count(band.begin(), band.end(), 0));
+    std::vector<int>().swap(band);
+    const auto piece_options = [&](int) {
+      RemeshOptions o = band_options;
+      o.reserve_share = band_triangles / pieces / std::max(mesh.n_triangles(), 1);
+      return o;
+    };
+    if (!remesh_parts(m, piece, pieces, piece_options, p.threads, false, index, serial_progress, nullptr, out)) return out;
+    index += pieces;
+    std::vector<int>().swap(piece);
+    band = band_around(mesh, seams, p.band_rings);
+    fill_pinched_fans(mesh, band);
+    if (std::find(band.begin(), band.end(), 0) == band.end()) return out;  // no seam: the pieces were apart
+  }
   Region b = cut_region(mesh, band, 0);
-  RemeshOptions o = options;
-  o.relaxation_stages = 0;  // the band is adapted already but for its middle
-  o.reserve_share = static_cast<double>(b.mesh.n_triangles()) / std::max(mesh.n_triangles(), 1);
-  // The final pass's swaps toward valence 6 may lower a triangle's quality
-  // for the smoothing to raise it again, which the band's frozen border
-  // prevents there; the regions made them.
-  o.valence_swaps = false;
-  std::vector<PassReport> band_passes = remesh_region(m, b, m.geometry(), m.control(), o, n, serial_progress);
+  band_options.reserve_share = static_cast<double>(b.mesh.n_triangles()) / std::max(mesh.n_triangles(), 1);
+  std::vector<PassReport> band_passes = remesh_region(m, b, m.geometry(), m.control(), band_options, index, serial_progress);
   if (over_limit(band_passes)) {
     out.insert(out.end(), band_passes.begin(), band_passes.end());
     return out;

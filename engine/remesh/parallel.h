@@ -8,7 +8,9 @@
 //     and T_0 (copy_for_thread);
 //  3. the regions are pasted back in order, and the band of `band_rings`
 //     rings around their borders, left as it was by step 2, runs the
-//     schedule again (its own border, inside the remeshed regions, frozen).
+//     schedule again (its own border, inside the remeshed regions, frozen):
+//     for a coarsening in pieces on the threads as in step 2 (band_pieces),
+//     then the band around the seams between the pieces, on one.
 // The output depends on the mesh, the options and the region count only
 // (a function of the thread count; not on the threads' timing); the quality figures are those of the serial
 // loop, which runs when threads is 1 or the mesh is too small to share.
@@ -54,6 +56,17 @@ struct ParallelOptions {
   double later_round_share = 0.6;
   double min_round_work = 20000;
   int band_rings = 4;  // step 3: rings around the borders remeshed again
+  // Step 3 of a coarsening in pieces: the band is split as the mesh was (one
+  // piece per thread, each of min_piece_work at least), the pieces remeshed
+  // at once with their seams frozen, then the band of band_rings rings
+  // around the seams alone (false: the whole band on one thread). A
+  // coarsening's band is the rounds of a CAD part's creases and curvature
+  // (falcon.mesh at hausd 3e-4 ungraded: a quarter of the remeshing time, on
+  // one thread); a refinement's is a small share of its time, and its pieces
+  // at once hold more memory than the whole band (sphere20k_bandfine: peak
+  // 74.4 -> 78.6 MB): it stays whole.
+  bool band_pieces = true;
+  double min_piece_work = 1500;
 };
 
 // The number of regions run_in_regions() uses for `m` (1: serial; above the

@@ -143,26 +143,52 @@ double triangle_work(const AdaptedMesh& m, Triangle t) {
   return std::isfinite(w) ? w : 1.0;
 }
 
+namespace {
+
+// The regions of the triangles `ids` of m (the others -1): bisect() of their
+// centroids, weighted by triangle_work. The centroids and weights are held
+// by rank in `ids` (a band of a large mesh: arrays of its size, not of the
+// mesh's slots).
+std::vector<int> partition_ids(const AdaptedMesh& m, const std::vector<int>& ids, int parts,
+                               const std::vector<double>& shares) {
+  const SurfaceMesh& mesh = m.mesh();
+  const int nt = static_cast<int>(ids.size());
+  std::vector<Vec3> centre(ids.size());
+  std::vector<double> weight(ids.size(), 0.0);
+  run_chunks(nt, chunk_count(nt, 16384), [&](int, int begin, int end) {
+    for (int k = begin; k < end; ++k) {
+      const Triangle t(ids[static_cast<std::size_t>(k)]);
+      centre[static_cast<std::size_t>(k)] = centroid(mesh, t);
+      weight[static_cast<std::size_t>(k)] = triangle_work(m, t);
+    }
+  });
+  std::vector<int> rank(ids.size()), part_of_rank(ids.size(), -1);
+  for (int k = 0; k < nt; ++k) rank[static_cast<std::size_t>(k)] = k;
+  bisect(rank, 0, rank.size(), std::max(parts, 1), 0, centre, weight, shares, part_of_rank);
+  std::vector<int> part(static_cast<std::size_t>(mesh.triangle_capacity()), -1);
+  for (int k = 0; k < nt; ++k)
+    part[static_cast<std::size_t>(ids[static_cast<std::size_t>(k)])] = part_of_rank[static_cast<std::size_t>(k)];
+  return part;
+}
+
+}  // namespace
+
 std::vector<int> partition_triangles(const AdaptedMesh& m, int parts, const std::vector<double>& shares) {
   if (!shares.empty() && shares.size() != static_cast<std::size_t>(parts))
     throw std::invalid_argument("partition_triangles: one share per region expected");
   const SurfaceMesh& mesh = m.mesh();
-  const auto n = static_cast<std::size_t>(mesh.triangle_capacity());
-  std::vector<int> part(n, -1), ids;
-  std::vector<Vec3> centre(n);
-  std::vector<double> weight(n, 0.0);
+  std::vector<int> ids;
   ids.reserve(static_cast<std::size_t>(mesh.n_triangles()));
   for (Triangle t : mesh.triangles()) ids.push_back(t.idx);
-  const int nt = static_cast<int>(ids.size());
-  run_chunks(nt, chunk_count(nt, 16384), [&](int, int begin, int end) {
-    for (int k = begin; k < end; ++k) {
-      const Triangle t(ids[static_cast<std::size_t>(k)]);
-      centre[static_cast<std::size_t>(t.idx)] = centroid(mesh, t);
-      weight[static_cast<std::size_t>(t.idx)] = triangle_work(m, t);
-    }
-  });
-  bisect(ids, 0, ids.size(), std::max(parts, 1), 0, centre, weight, shares, part);
-  return part;
+  return partition_ids(m, ids, parts, shares);
+}
+
+std::vector<int> partition_within(const AdaptedMesh& m, const std::vector<int>& within, int parts) {
+  std::vector<int> ids;
+  for (Triangle t : m.mesh().triangles())
+    if (static_cast<std::size_t>(t.idx) < within.size() && within[static_cast<std::size_t>(t.idx)] == 0)
+      ids.push_back(t.idx);
+  return partition_ids(m, ids, parts, {});
 }
 
 std::vector<int> band_around(const SurfaceMesh& m, const std::vector<Vertex>& seeds, int rings) {

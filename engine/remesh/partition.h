@@ -36,6 +36,9 @@ double triangle_work(const AdaptedMesh& m, Triangle t);
 // (a function of the mesh, `parts` and `shares` only). Regions need not be
 // connected.
 std::vector<int> partition_triangles(const AdaptedMesh& m, int parts, const std::vector<double>& shares = {});
+// The same over the triangles t with within[t] == 0 only (the others -1), in
+// `parts` regions of equal work: the band of run_in_regions in pieces.
+std::vector<int> partition_within(const AdaptedMesh& m, const std::vector<int>& within, int parts);
 
 // The triangles within `rings` edge rings of the vertices `seeds`: region 0,
 // the others -1 (the band remeshed after the regions, around their borders).
