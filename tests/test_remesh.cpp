@@ -821,3 +821,28 @@ TEST_CASE("remesh: the sag memo is a cache: the same adapted mesh without it, wh
     for (int k = 0; k < 3; ++k) rewired += with.mesh.vertex(t, k) == without.mesh.vertex(t, k) ? 0 : 1;
   CHECK(rewired == 0);
 }
+
+TEST_CASE("placed_position: place()'s position, with and without the pull towards the input") {
+  // The demo's coarse icosphere: its G1 surface stands off the facets by
+  // more than the bound in places (pulled) and not in others.
+  auto s = make_setup(test::asset_file("demo.mesh"), "", 0.1, true);
+  AdaptedMesh& a = *s->adapted;
+  const SurfaceMesh& m = a.mesh();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-0.2, 0.2);
+  int pulled = 0, free_points = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Vertex v(std::uniform_int_distribution<int>(0, m.vertex_capacity() - 1)(rng));
+    if (m.is_deleted(v) || m.is_isolated(v)) continue;
+    const Vec3 x = m.position(v) + Vec3(u(rng), u(rng), u(rng));
+    const VertexKind kind = a.kind(v) == VertexKind::Fixed ? VertexKind::Free : a.kind(v);
+    const Placement p = a.place(x, kind, {v});
+    const Vec3 q = a.placed_position(x, kind, {v});
+    CHECK(q.x == p.position.x);
+    CHECK(q.y == p.position.y);
+    CHECK(q.z == p.position.z);
+    (p.pulled ? pulled : free_points) += 1;
+  }
+  CHECK(pulled > 100);
+  CHECK(free_points > 100);
+}

@@ -185,8 +185,29 @@ Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, std::initializer_li
 }
 
 Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, std::span<const Vertex> near) {
-  std::array<Hint, 8> hg{}, h0{};
+  std::array<Hint, 8> h0{};
   std::size_t n = 0;
+  const Projection pr = project_from(x, kind, near, h0, n);
+  return placement_at(x, kind, pr, h0, n);
+}
+
+Vec3 AdaptedMesh::placed_position(const Vec3& x, VertexKind kind, std::initializer_list<Vertex> near) {
+  std::array<Hint, 8> h0{};
+  std::size_t n = 0;
+  const Projection pr = project_from(x, kind, std::span<const Vertex>(near.begin(), near.size()), h0, n);
+  if (kind == VertexKind::Fixed) return x;
+  // pull_towards_input leaves the point where it is when it lies within the
+  // least tolerance of its input triangle.
+  if (!bound_.enabled || !pr.location.is_valid() ||
+      !(norm(pr.point - pr.location.point) > least_input_tolerance(pr.location.triangle)))
+    return pr.point;
+  return placement_at(x, kind, pr, h0, n).position;
+}
+
+Projection AdaptedMesh::project_from(const Vec3& x, VertexKind kind, std::span<const Vertex> near,
+                                     std::array<Hint, 8>& h0, std::size_t& n) {
+  std::array<Hint, 8> hg{};
+  n = 0;
   for (Vertex v : near) {
     if (n == hg.size()) break;
     if (!hint_g_[v].is_valid()) continue;
@@ -196,7 +217,11 @@ Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, std::span<const Ver
   }
   // A fixed vertex is not moved: it is only located (as a free point).
   const Constraint c = kind == VertexKind::Fixed ? Constraint::Free : constraint(kind);
-  const Projection pr = geometry_.project(x, std::span<const Hint>(hg.data(), n), c);
+  return geometry_.project(x, std::span<const Hint>(hg.data(), n), c);
+}
+
+Placement AdaptedMesh::placement_at(const Vec3& x, VertexKind kind, const Projection& pr,
+                                    const std::array<Hint, 8>& h0, std::size_t n) {
   Placement p;
   p.position = kind == VertexKind::Fixed ? x : pr.point;
   p.normal = kind == VertexKind::Free ? pr.normal : Vec3();
@@ -263,6 +288,14 @@ double AdaptedMesh::input_tolerance(Triangle t, const SymTensor3& M) const {
   const double natural =
       t.is_valid() && static_cast<std::size_t>(t.idx) < sagitta_->size() ? (*sagitta_)[static_cast<std::size_t>(t.idx)] : 0.0;
   double tol = std::max(bound_.size_fraction * h, bound_.natural_factor * natural);
+  if (bound_.hausd > 0) tol = std::min(tol, bound_.hausd_fraction * bound_.hausd);
+  return tol;
+}
+
+double AdaptedMesh::least_input_tolerance(Triangle t) const {
+  const double natural =
+      t.is_valid() && static_cast<std::size_t>(t.idx) < sagitta_->size() ? (*sagitta_)[static_cast<std::size_t>(t.idx)] : 0.0;
+  double tol = bound_.natural_factor * natural;  // input_tolerance's max() is at least this
   if (bound_.hausd > 0) tol = std::min(tol, bound_.hausd_fraction * bound_.hausd);
   return tol;
 }

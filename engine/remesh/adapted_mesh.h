@@ -110,6 +110,11 @@ class AdaptedMesh {
   // and solution of T_0 there. Fixed vertices are not projected.
   Placement place(const Vec3& x, VertexKind kind, std::initializer_list<Vertex> near);
   Placement place(const Vec3& x, VertexKind kind, std::span<const Vertex> near);
+  // place(x, kind, near).position alone: T_0's values at the point are
+  // looked up only when the pull towards the input (InputBound) may act
+  // there (the point farther from the input than the least tolerance the
+  // input triangle allows), which most points of a smooth surface are not.
+  Vec3 placed_position(const Vec3& x, VertexKind kind, std::initializer_list<Vertex> near);
   // The placement of v as it is now (no search).
   Placement current(Vertex v) const;
   // The placement of vertex v at x when T_G's vertex of the same id lies
@@ -242,6 +247,15 @@ class AdaptedMesh {
   // Handles of the remesh:* properties and of the solution fields of mesh_.
   void bind_properties();
   void pull_towards_input(Placement& p, const Location& on_geometry) const;
+  // The projection of place(): the hints of `near` in T_G (hg, n of them)
+  // and T_0 (h0).
+  Projection project_from(const Vec3& x, VertexKind kind, std::span<const Vertex> near, std::array<Hint, 8>& h0,
+                          std::size_t& n);
+  // The values of place() at the projection pr of x (hints h0, n of them).
+  Placement placement_at(const Vec3& x, VertexKind kind, const Projection& pr, const std::array<Hint, 8>& h0,
+                         std::size_t n);
+  // A lower bound of input_tolerance(t, M) over every M.
+  double least_input_tolerance(Triangle t) const;
 };
 
 }  // namespace anisurf::remesh

@@ -1034,7 +1034,7 @@ bool sags_off_input(AdaptedMesh& m, const Vec3& pa, const SymTensor3& Ma, const 
   // The midpoint against the point a new vertex there would take (on the
   // smooth surface, within the input bound): the segment's chordal sag.
   const Vec3 mid = 0.5 * (pa + pb);
-  return norm(m.place(mid, curve ? VertexKind::Curve : VertexKind::Free, {a, b}).position - mid) > tol;
+  return norm(m.placed_position(mid, curve ? VertexKind::Curve : VertexKind::Free, {a, b}) - mid) > tol;
 }
 
 bool edge_sags_off_input(AdaptedMesh& m, Vertex a, Vertex b, const OperatorOptions& o) {
