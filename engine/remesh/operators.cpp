@@ -627,6 +627,10 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
       q_new = std::min(q_new, counted_quality(m.quality(tv.x, tv.M), m, t, [&] { return tv; }, r, k, o));
       any = true;
       new_triangles.push_back(tv);
+      // q_new only falls with the triangles still to come: refused now for
+      // the quality test below (a refusal either way; which test names it
+      // is the only difference).
+      if (q_new < o.collapse_quality && q_new < fan_quality.get(m, r, k)) return Rejection::Quality;
     }
   }
   if (!any) return Rejection::Topology;
