@@ -969,10 +969,16 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
     const Placement at = m.place(s + dx, kind, {v});
     double q = 1;
     last = Rejection::None;
+    // The quality test below, on the fan so far (q only falls with the
+    // rest): a refusal as soon as it fails.
+    auto quality_refused = [&] {
+      return (m.on_surface(v) && !(q >= o.move_quality_factor * plan.quality_before)) || q <= 0;
+    };
     for (std::size_t i = 0; i < fan.size() && last == Rejection::None; ++i) {
       const TriangleView tv = view(m, M::triangle(fan[i]), v, Vertex(), at);
       last = check_triangle(tv.x[0], tv.x[1], tv.x[2], old_n[i], tv.n, lim, false, old_limit[i]);
       q = std::min(q, counted_quality(m.quality(tv.x, tv.M), m, M::triangle(fan[i]), [&] { return tv; }, {}, {}, o));
+      if (last == Rejection::None && quality_refused()) last = Rejection::Quality;
     }
     if (last != Rejection::None) continue;
     for (std::size_t i = 0; i < ring.size() && last == Rejection::None; ++i) {
@@ -992,7 +998,7 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
       }
     }
     // A vertex off the surface is projected whatever the quality (validity only).
-    if ((m.on_surface(v) && !(q >= o.move_quality_factor * plan.quality_before)) || q <= 0) {
+    if (quality_refused()) {
       last = Rejection::Quality;
       continue;
     }
