@@ -192,10 +192,10 @@ Placement AdaptedMesh::place(const Vec3& x, VertexKind kind, std::span<const Ver
 }
 
 Vec3 AdaptedMesh::placed_position(const Vec3& x, VertexKind kind, std::initializer_list<Vertex> near) {
+  if (kind == VertexKind::Fixed) return x;  // not moved (place() only locates it)
   std::array<Hint, 8> h0{};
   std::size_t n = 0;
   const Projection pr = project_from(x, kind, std::span<const Vertex>(near.begin(), near.size()), h0, n);
-  if (kind == VertexKind::Fixed) return x;
   // pull_towards_input leaves the point where it is when it lies within the
   // least tolerance of its input triangle.
   if (!bound_.enabled || !pr.location.is_valid() ||

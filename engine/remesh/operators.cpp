@@ -627,9 +627,10 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
       q_new = std::min(q_new, counted_quality(m.quality(tv.x, tv.M), m, t, [&] { return tv; }, r, k, o));
       any = true;
       new_triangles.push_back(tv);
-      // q_new only falls with the triangles still to come: refused now for
-      // the quality test below (a refusal either way; which test names it
-      // is the only difference).
+      // Worse than collapse_quality and than the worst triangle of the two
+      // fans before (measured only then: most collapses clear the
+      // threshold). q_new only falls with the triangles still to come: the
+      // test is made as it goes.
       if (q_new < o.collapse_quality && q_new < fan_quality.get(m, r, k)) return Rejection::Quality;
     }
   }
@@ -642,9 +643,6 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
       if (m.length(p.position, p.values.metric, mesh.position(n), m.metric(n)) > o.lmax) return Rejection::Length;
     }
   }
-  // Worse than collapse_quality and than the worst triangle of the two fans
-  // before (measured only then: most collapses clear the threshold).
-  if (q_new < o.collapse_quality && q_new < fan_quality.get(m, r, k)) return Rejection::Quality;
   // New edges across the surface stay on it (feature edges: the curve test).
   for (Vertex n : mesh.ring_vertices(r)) {
     if (n == k) continue;
@@ -969,16 +967,15 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
     const Placement at = m.place(s + dx, kind, {v});
     double q = 1;
     last = Rejection::None;
-    // The quality test below, on the fan so far (q only falls with the
-    // rest): a refusal as soon as it fails.
-    auto quality_refused = [&] {
-      return (m.on_surface(v) && !(q >= o.move_quality_factor * plan.quality_before)) || q <= 0;
-    };
     for (std::size_t i = 0; i < fan.size() && last == Rejection::None; ++i) {
       const TriangleView tv = view(m, M::triangle(fan[i]), v, Vertex(), at);
       last = check_triangle(tv.x[0], tv.x[1], tv.x[2], old_n[i], tv.n, lim, false, old_limit[i]);
       q = std::min(q, counted_quality(m.quality(tv.x, tv.M), m, M::triangle(fan[i]), [&] { return tv; }, {}, {}, o));
-      if (last == Rejection::None && quality_refused()) last = Rejection::Quality;
+      // Not worse than before (times move_quality_factor); a vertex off the
+      // surface is projected whatever the quality (validity only). q only
+      // falls with the rest of the fan: the test is made as it goes.
+      if (last == Rejection::None && ((m.on_surface(v) && !(q >= o.move_quality_factor * plan.quality_before)) || q <= 0))
+        last = Rejection::Quality;
     }
     if (last != Rejection::None) continue;
     for (std::size_t i = 0; i < ring.size() && last == Rejection::None; ++i) {
@@ -996,11 +993,6 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
         last = Rejection::Tangent;
         continue;
       }
-    }
-    // A vertex off the surface is projected whatever the quality (validity only).
-    if (quality_refused()) {
-      last = Rejection::Quality;
-      continue;
     }
     if (m.on_surface(v) && moved_edge_sags_off_input(m, v, at, ring, o)) {
       last = Rejection::Deviation;

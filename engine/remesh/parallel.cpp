@@ -179,7 +179,7 @@ int count_for(const AdaptedMesh& m, const ParallelOptions& p, double work) {
 // Cuts the parts 0..n-1 of `part` out of m, remeshes each with
 // options_of(k) on `threads` threads (which take them in turn, the first on
 // this one) and pastes them back in order. Their passes go to `out` (region
-// index_base + k), their border vertices to *borders when given. With
+// index_base + k), their border vertices are appended to *borders when given. With
 // `reserve`, m's arrays first make room for all the parts' elements (a
 // refinement's regions, which outgrow the slots they free); else the parts
 // fill the slots they free first (the band's pieces, adapted already but
@@ -342,10 +342,8 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     o.reserve_share = share;
     return o;
   };
-  std::vector<Vertex> borders;
-  if (!remesh_parts(m, part, n, region_options, p.threads, true, 0, serial_progress, &borders, out)) return out;
-  seeds.insert(seeds.end(), borders.begin(), borders.end());
-  std::vector<Vertex>().swap(borders);
+  // The regions' borders seed the band too.
+  if (!remesh_parts(m, part, n, region_options, p.threads, true, 0, serial_progress, &seeds, out)) return out;
   std::vector<int>().swap(part);  // the band's own map replaces it
 
   // The band around the borders, adapted already but for its middle: no
