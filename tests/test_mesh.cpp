@@ -222,6 +222,53 @@ TEST_CASE("build orients components and reports flips") {
   CHECK(compute_stats(m).boundary_edges == 12);
 }
 
+TEST_CASE("build keeps a consistently oriented soup as given: corners in the input's order, every edge linked") {
+  const MeshData d = grid(4);
+  SurfaceMesh m;
+  const auto rep = build_mesh(d, m);
+  require_valid(m);
+  CHECK(rep.flipped_triangles == 0);
+  REQUIRE(m.n_triangles() == static_cast<int>(d.triangles.size()));
+  for (int t = 0; t < m.n_triangles(); ++t)
+    for (int k = 0; k < 3; ++k) CHECK(m.vertex(SurfaceMesh::corner(Triangle(t), k)).idx == d.triangles[t][k]);
+  CHECK(compute_stats(m).boundary_edges == 16);
+}
+
+TEST_CASE("append_vertices and append_triangles: slots after the last, default properties, no links") {
+  SurfaceMesh m;
+  auto weight = m.add_vertex_property<double>("test:weight", 2.5);
+  auto mark = m.add_triangle_property<int>("test:mark", 7);
+  m.add_vertex({9, 9, 9});
+  weight[Vertex(0)] = 1;
+  const std::vector<Vec3> p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  CHECK(m.append_vertices(p) == 1);
+  const std::vector<std::array<int, 3>> t = {{1, 2, 3}, {1, 3, 4}};
+  CHECK(m.append_triangles(t) == 0);
+  CHECK(m.n_vertices() == 5);
+  CHECK(m.n_triangles() == 2);
+  CHECK(weight[Vertex(0)] == 1);
+  for (int v = 1; v <= 4; ++v) {
+    CHECK(m.position(Vertex(v)) == p[static_cast<std::size_t>(v - 1)]);
+    CHECK(weight[Vertex(v)] == 2.5);
+    CHECK_FALSE(m.corner(Vertex(v)).is_valid());
+  }
+  for (int k = 0; k < 6; ++k) {
+    const Corner c(k);
+    CHECK(m.vertex(c).idx == t[static_cast<std::size_t>(k / 3)][static_cast<std::size_t>(k % 3)]);
+    CHECK_FALSE(m.opposite(c).is_valid());
+  }
+  CHECK(mark[Triangle(1)] == 7);
+  // Linked across the diagonal 1-3 and given fans as a builder does: a
+  // valid square.
+  m.link(Corner(1), Corner(5));
+  for (int k = 0; k < 6; ++k) m.set_vertex_corner(m.vertex(Corner(k)), Corner(k));
+  for (int v = 1; v <= 4; ++v) m.update_vertex_corner(Vertex(v));
+  m.delete_vertex(Vertex(0));
+  m.update_boundary_tags();
+  require_valid(m);
+  CHECK(compute_stats(m).boundary_edges == 4);
+}
+
 TEST_CASE("build drops degenerate, duplicated triangles and unreferenced vertices") {
   MeshData d = grid(2);
   d.triangles.push_back(d.triangles[0]);                    // duplicate

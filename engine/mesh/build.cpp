@@ -185,33 +185,37 @@ int vertex_bound(const std::vector<Tri>& tris) {
   return n;
 }
 
-// into[i] for the uses of `from` in the order of the part `part` of their
-// keys (32 bits of it: a vertex id below `buckets`), equal parts keeping
-// their order (a counting sort, stable).
-void counting_sort_uses(const std::vector<EdgeUse>& from, std::vector<EdgeUse>& into, int buckets, int shift) {
-  std::vector<int> start(static_cast<std::size_t>(buckets) + 1, 0);
-  auto part = [shift](const EdgeUse& u) { return static_cast<std::size_t>((u.key >> shift) & 0xffffffffu); };
-  for (const EdgeUse& u : from) ++start[part(u) + 1];
-  for (int b = 0; b < buckets; ++b) start[static_cast<std::size_t>(b) + 1] += start[static_cast<std::size_t>(b)];
-  into.resize(from.size());
-  for (const EdgeUse& u : from) into[static_cast<std::size_t>(start[part(u)]++)] = u;
-}
-
 // The uses of every edge (key, triangle, opposite corner), ordered by key,
-// then triangle, then corner: made in (triangle, corner) order and sorted
-// stably on the key's low vertex, then on its high one (a radix sort).
+// then triangle, then corner: made in (triangle, corner) order, placed
+// stably by the key's first vertex (a counting sort), then each vertex's few
+// uses sorted stably on the key (insertion).
 std::vector<EdgeUse> sorted_edge_uses(const std::vector<Tri>& tris) {
   std::vector<EdgeUse> uses;
   reserve_huge(uses, tris.size() * 3);
   for (int t = 0; t < static_cast<int>(tris.size()); ++t)
     for (int k = 0; k < 3; ++k)
       uses.push_back({edge_key(tris[t][(k + 1) % 3], tris[t][(k + 2) % 3]), t, k});
-  const int buckets = vertex_bound(tris);
+  const auto buckets = static_cast<std::size_t>(vertex_bound(tris));
+  std::vector<int> start(buckets + 1, 0);
+  auto first_vertex = [](const EdgeUse& u) { return static_cast<std::size_t>(u.key >> 32); };
+  for (const EdgeUse& u : uses) ++start[first_vertex(u) + 1];
+  for (std::size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
   std::vector<EdgeUse> sorted;
   reserve_huge(sorted, uses.size());
-  counting_sort_uses(uses, sorted, buckets, 0);
-  counting_sort_uses(sorted, uses, buckets, 32);
-  return uses;
+  sorted.resize(uses.size());
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (const EdgeUse& u : uses) sorted[static_cast<std::size_t>(fill[first_vertex(u)]++)] = u;
+  }
+  for (std::size_t b = 0; b < buckets; ++b)
+    for (int i = start[b] + 1; i < start[b + 1]; ++i) {
+      const EdgeUse u = sorted[static_cast<std::size_t>(i)];
+      int j = i;
+      for (; j > start[b] && sorted[static_cast<std::size_t>(j) - 1].key > u.key; --j)
+        sorted[static_cast<std::size_t>(j)] = sorted[static_cast<std::size_t>(j) - 1];
+      sorted[static_cast<std::size_t>(j)] = u;
+    }
+  return sorted;
 }
 
 // True when the edge opposite corner `local` of t runs in the same direction
@@ -334,20 +338,28 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
   // 4. orient each component by a breadth-first walk over the pairs
   // The pairs of each triangle (one per edge at most: three slots, -1 when
   // unused), in pair order.
-  std::vector<std::array<int, 3>> tri_pairs(static_cast<std::size_t>(nt), {-1, -1, -1});
-  auto add_pair = [&](int t, int p) {
-    for (int& slot : tri_pairs[static_cast<std::size_t>(t)])
-      if (slot < 0) {
-        slot = p;
-        return;
-      }
-  };
-  for (int p = 0; p < static_cast<int>(pairs.size()); ++p) {
-    add_pair(pairs[p].t0, p);
-    add_pair(pairs[p].t1, p);
-  }
   std::vector<char> cut(pairs.size(), 0);
-  if (opt.orient) {
+  // Consistently oriented pairs throughout (most inputs): the walk would
+  // flip nothing and cut nothing.
+  bool consistent = true;
+  for (const Pair& pr : pairs)
+    if (same_direction(tris[pr.t0], pr.l0, tris[pr.t1], pr.l1)) {
+      consistent = false;
+      break;
+    }
+  if (opt.orient && !consistent) {
+    std::vector<std::array<int, 3>> tri_pairs(static_cast<std::size_t>(nt), {-1, -1, -1});
+    auto add_pair = [&](int t, int p) {
+      for (int& slot : tri_pairs[static_cast<std::size_t>(t)])
+        if (slot < 0) {
+          slot = p;
+          return;
+        }
+    };
+    for (int p = 0; p < static_cast<int>(pairs.size()); ++p) {
+      add_pair(pairs[p].t0, p);
+      add_pair(pairs[p].t1, p);
+    }
     std::vector<int> flip(nt, -1);
     std::vector<int> queue;
     queue.reserve(nt);
@@ -382,6 +394,7 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
       }
   }
   // Local corner indices move with a flip (1 <-> 2): recompute them by vertex.
+  const bool flipped = rep.flipped_triangles > 0;
   auto corner_opposite = [&](int t, std::uint64_t key) {
     for (int k = 0; k < 3; ++k)
       if (edge_key(tris[t][(k + 1) % 3], tris[t][(k + 2) % 3]) == key) return k;
@@ -392,17 +405,14 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
   mesh.clear();
   mesh.set_dimension(d.dimension);
   mesh.reserve(nv_in, nt);
-  for (int v = 0; v < nv_in; ++v) mesh.add_vertex(d.vertices[v]);
-  for (int t = 0; t < nt; ++t) {
-    Triangle tt = mesh.allocate_triangle();
-    for (int k = 0; k < 3; ++k) mesh.set_corner_vertex(SurfaceMesh::corner(tt, k), Vertex(tris[t][k]));
-  }
+  mesh.append_vertices(d.vertices);
+  mesh.append_triangles(tris);
   for (int p = 0; p < static_cast<int>(pairs.size()); ++p) {
     if (cut[p]) continue;
     const Pair& pr = pairs[p];
     const std::uint64_t key = pr.key;
-    int l0 = opt.orient ? corner_opposite(pr.t0, key) : pr.l0;
-    int l1 = opt.orient ? corner_opposite(pr.t1, key) : pr.l1;
+    int l0 = flipped ? corner_opposite(pr.t0, key) : pr.l0;
+    int l1 = flipped ? corner_opposite(pr.t1, key) : pr.l1;
     Corner c0 = SurfaceMesh::corner(Triangle(pr.t0), l0), c1 = SurfaceMesh::corner(Triangle(pr.t1), l1);
     // Without orientation, an inconsistent pair cannot be linked.
     if (!opt.orient && same_direction(tris[pr.t0], l0, tris[pr.t1], l1)) continue;
@@ -415,7 +425,7 @@ BuildReport build_mesh(const MeshData& d, SurfaceMesh& mesh, const BuildOptions&
       while (j < uses.size() && uses[j].key == uses[i].key) ++j;
       if (j - i > 2)
         for (std::size_t k = i; k < j; ++k) {
-          int l = corner_opposite(uses[k].tri, uses[k].key);
+          int l = flipped ? corner_opposite(uses[k].tri, uses[k].key) : uses[k].local;
           mesh.add_edge_tag(SurfaceMesh::corner(Triangle(uses[k].tri), l), kNonManifold);
         }
       i = j;

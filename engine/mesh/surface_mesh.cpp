@@ -160,6 +160,30 @@ Triangle SurfaceMesh::allocate_triangle() {
   return Triangle(t);
 }
 
+int SurfaceMesh::append_vertices(std::span<const Vec3> p) {
+  assert(free_vertices_.empty());
+  const std::size_t first = vpos_.size(), n = first + p.size();
+  vpos_.insert(vpos_.end(), p.begin(), p.end());
+  vcorner_.resize(n, -1);
+  vtag_.resize(n, 0);
+  vref_.resize(n);
+  vprops_.resize(n);
+  return static_cast<int>(first);
+}
+
+int SurfaceMesh::append_triangles(std::span<const std::array<int, 3>> t) {
+  assert(free_triangles_.empty());
+  const std::size_t first = tv_.size() / 3, n = first + t.size();
+  for (const std::array<int, 3>& v : t) tv_.insert(tv_.end(), v.begin(), v.end());
+  to_.resize(3 * n, -1);
+  etag_.resize(3 * n, 0);
+  eref_.resize(3 * n);
+  ttag_.resize(n, 0);
+  tref_.resize(n);
+  tprops_.resize(n);
+  return static_cast<int>(first);
+}
+
 void SurfaceMesh::link(Corner a, Corner b) {
   to_[a.idx] = b.idx;
   if (b.is_valid()) to_[b.idx] = a.idx;

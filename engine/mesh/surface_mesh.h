@@ -18,6 +18,7 @@
 #include <memory>
 #include <string>
 #include <type_traits>
+#include <span>
 #include <vector>
 
 #include "core/vec3.h"
@@ -387,6 +388,12 @@ class SurfaceMesh {
   // Chooses corner(v) as the start of its fan (the boundary-most one).
   void update_vertex_corner(Vertex v);
   Triangle allocate_triangle();  // uninitialised slot, reused from the free list
+  // Low-level, for builders: appends the vertices at `p` (default
+  // properties, no corner) and the triangles `t` (vertex ids, no links), in
+  // order, after every slot in use, each array grown once. Returns the first
+  // new slot. Pre: no free slot of that kind (a fresh or compacted mesh).
+  int append_vertices(std::span<const Vec3> p);
+  int append_triangles(std::span<const std::array<int, 3>> t);
   void delete_triangle(Triangle t);  // unlinks its edges from neighbours, frees the slot
   // Frees a triangle slot without touching neighbours or vertices: for
   // operators that have already relinked everything around it.
