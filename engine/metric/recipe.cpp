@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "geometry/parallel_chunks.h"
 #include "metric/expression.h"
 #include "metric/surface_metric.h"
 
@@ -98,8 +99,13 @@ bool has_bounds(const MetricBounds& b) {
 GradationReport finish_metric(const SurfaceMesh& mesh, const MetricRecipe& r, MetricField& M,
                               const MetricField& deviation_metric) {
   if (has_bounds(r.bounds)) clamp_metric_field(mesh, M, r.bounds);
-  if (!deviation_metric.empty())
-    for (Vertex v : mesh.vertices()) M[v.idx] = intersect(M[v.idx], deviation_metric[v.idx]);
+  if (!deviation_metric.empty()) {
+    const int n = mesh.vertex_capacity();
+    run_chunks(n, chunk_count(n, 8192), [&](int, int begin, int end) {
+      for (int i = begin; i < end; ++i)
+        if (!mesh.is_deleted(Vertex(i))) M[i] = intersect(M[i], deviation_metric[i]);
+    });
+  }
   if (!(r.hgrad > 1)) return {};
   GradationOptions g;
   g.ratio = r.hgrad;

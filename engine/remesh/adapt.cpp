@@ -312,8 +312,9 @@ SurfaceKind resolve_surface(SurfaceKind kind, const SurfaceMesh& tg, const Metri
 }
 
 std::unique_ptr<ControlSpace> make_control(const SurfaceMesh& t0, MetricField metric, bool t0_is_geometry,
-                                           const AdaptOptions& options) {
-  return std::make_unique<ControlSpace>(t0, std::move(metric), t0_is_geometry, options.interpolation);
+                                           const AdaptOptions& options, double complexity) {
+  return std::make_unique<ControlSpace>(t0, std::move(metric), t0_is_geometry, options.interpolation, "metric",
+                                        complexity);
 }
 
 AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& cb) {
@@ -397,7 +398,7 @@ AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& 
       result.surface = geometry->name();
       timer.done("surface (frames, Bezier patches, locator)");
     }
-    auto control = make_control(t0, std::move(metric.metric), t0_is_geometry, options);
+    auto control = make_control(t0, std::move(metric.metric), t0_is_geometry, options, metric.complexity);
     auto adapted = std::make_unique<AdaptedMesh>(t0, *geometry, *control, options.length, cycle == 1 && separate,
                                                   input_bound_of(options));
     timer.done("T_1 located on T_G and T_0");

@@ -237,9 +237,11 @@ SurfaceKind resolve_surface(SurfaceKind kind, const SurfaceMesh& tg, const Metri
 std::optional<SurfaceKind> surface_before_metric(SurfaceKind kind, const SurfaceMesh& tg, double hausd,
                                                  bool separate_geometry);
 
-// The control space of T_0 with `metric` as the options say (interpolation).
+// The control space of T_0 with `metric` as the options say (interpolation);
+// `complexity`: the metric's on T_0 when known (NaN: computed).
 std::unique_ptr<ControlSpace> make_control(const SurfaceMesh& t0, MetricField metric, bool t0_is_geometry,
-                                           const AdaptOptions& options);
+                                           const AdaptOptions& options,
+                                           double complexity = std::numeric_limits<double>::quiet_NaN());
 
 // The whole pipeline; see the top of this file. Throws Error (MetricError,
 // ExpressionError ...) before changing anything on bad options or a metric

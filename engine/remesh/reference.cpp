@@ -96,10 +96,11 @@ Projection BezierGeometry::project(const Vec3& x, std::span<const Hint> hints, C
 }
 
 ControlSpace::ControlSpace(const SurfaceMesh& mesh, MetricField metric, bool same_as_geometry,
-                           MetricInterpolation interpolation, const std::string& metric_field_name)
+                           MetricInterpolation interpolation, const std::string& metric_field_name,
+                           double complexity)
     : mesh_(mesh), interpolation_(interpolation) {
   assert(static_cast<int>(metric.size()) >= mesh.vertex_capacity());
-  complexity_ = metric_complexity(mesh, metric);
+  complexity_ = std::isnan(complexity) ? metric_complexity(mesh, metric) : complexity;
   if (interpolation_ != MetricInterpolation::Linear) {
     const int n = static_cast<int>(metric.size());
     run_chunks(n, chunk_count(n, 16384), [&](int, int begin, int end) {

@@ -10,6 +10,7 @@
 // Both keep one search structure each (section 4) and answer from hints.
 #pragma once
 #include <array>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <span>
@@ -143,9 +144,12 @@ class ControlSpace {
   // `same_as_geometry`: T_0 is the very mesh of T_G, so the location found on
   // T_G is the location on T_0 (no second search). Pre: one SPD metric per
   // vertex slot of `mesh`; the mesh outlives the control space.
+  // `complexity`: metric_complexity(mesh, metric) when the caller has it
+  // (NaN: computed here).
   ControlSpace(const SurfaceMesh& mesh, MetricField metric, bool same_as_geometry,
                MetricInterpolation interpolation = MetricInterpolation::Linear,
-               const std::string& metric_field_name = "metric");
+               const std::string& metric_field_name = "metric",
+               double complexity = std::numeric_limits<double>::quiet_NaN());
 
   // Location of x in T_0, from a hint; `on_geometry` is x's location on T_G,
   // used as is when T_0 is T_G.
