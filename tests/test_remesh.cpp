@@ -18,8 +18,10 @@
 #include "mesh/operators.h"
 #include "metric/metric_field.h"
 #include "metric/quality.h"
+#include "metric/surface_metric.h"
 #include "remesh/adapt.h"
 #include "remesh/remesher.h"
+#include "test_geometry_util.h"
 #include "test_util.h"
 
 using namespace anisurf;
@@ -106,6 +108,19 @@ TEST_CASE("remesh: T_1 starts on T_G with the metric of T_0 at every vertex") {
     for (int k = 0; k < 6; ++k) CHECK(a.metric(v).m[k] == doctest::Approx(s->control->metric()[i].m[k]));
   }
   check_state(a, "initial");
+}
+
+TEST_CASE("control space: the target's complexity computed, or taken as the caller measured it") {
+  const SurfaceMesh mesh = test::build(test::icosphere(2));
+  MetricField metric(static_cast<std::size_t>(mesh.vertex_capacity()), isotropic_metric(0.3));
+  for (int i = 0; i < mesh.vertex_capacity(); i += 3) metric[static_cast<std::size_t>(i)] = isotropic_metric(0.15);
+  const double measured = metric_complexity(mesh, metric);
+  REQUIRE(measured > 0);
+  AdaptOptions o;
+  const auto computed = make_control(mesh, metric, true, o);
+  CHECK(computed->target_complexity() == measured);
+  const auto given = make_control(mesh, metric, true, o, 2.5 * measured);
+  CHECK(given->target_complexity() == 2.5 * measured);
 }
 
 TEST_CASE("remesh: random operator sequences keep the mesh valid, on the surface and uninverted") {
