@@ -185,23 +185,30 @@ void BezierSurface::index_mesh(const SurfaceMesh& mesh) {
 // Section 3, step 1: the cubic edge control points, once per edge, in the
 // tangent planes of the end vertices (or along the feature curve tangents).
 void BezierSurface::build_edges(const SurfaceMesh& mesh, const SurfaceFrames& frames, const BezierOptions& options) {
-  for (Corner e : mesh.edges()) {
-    const Vec3& a = mesh.position(mesh.edge_from(e));
-    const Vec3& b = mesh.position(mesh.edge_to(e));
-    Vec3 da, db;
-    if (is_feature_edge(mesh, e)) {
-      da = frames.tangent_from(e);
-      db = frames.tangent_to(e);
-    } else {
-      const Vec3& na = frames.normal(SurfaceMesh::next(e));
-      const Vec3& nb = frames.normal(SurfaceMesh::prev(e));
-      const Vec3 ab = b - a;
-      da = normalized(ab - dot(ab, na) * na);
-      db = normalized(-ab + dot(ab, nb) * nb);
+  // Each edge's points on their own (parallel chunks of the edges).
+  std::vector<Corner> edges;
+  for (Corner e : mesh.edges()) edges.push_back(e);
+  const int ne = static_cast<int>(edges.size());
+  run_chunks(ne, chunk_count(ne, 8192), [&](int, int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      const Corner e = edges[static_cast<std::size_t>(i)];
+      const Vec3& a = mesh.position(mesh.edge_from(e));
+      const Vec3& b = mesh.position(mesh.edge_to(e));
+      Vec3 da, db;
+      if (is_feature_edge(mesh, e)) {
+        da = frames.tangent_from(e);
+        db = frames.tangent_to(e);
+      } else {
+        const Vec3& na = frames.normal(SurfaceMesh::next(e));
+        const Vec3& nb = frames.normal(SurfaceMesh::prev(e));
+        const Vec3 ab = b - a;
+        da = normalized(ab - dot(ab, na) * na);
+        db = normalized(-ab + dot(ab, nb) * nb);
+      }
+      const int id = macro_[SurfaceMesh::triangle(e).idx].edge[SurfaceMesh::local_index(e)];
+      edge_[id] = {a + handle(b - a, da, options.handle), b + handle(a - b, db, options.handle)};
     }
-    const int id = macro_[SurfaceMesh::triangle(e).idx].edge[SurfaceMesh::local_index(e)];
-    edge_[id] = {a + handle(b - a, da, options.handle), b + handle(a - b, db, options.handle)};
-  }
+  });
 }
 
 // Cubic points of the side opposite vertex k, from vertex k+1 to vertex k+2.
@@ -353,13 +360,25 @@ std::vector<char> BezierSurface::correct_g1(const SurfaceMesh& mesh, const Surfa
                                             const BezierOptions& options) {
   const int nt = mesh.triangle_capacity();
   const double w = options.inner_correction_weight;
-  std::vector<char> touched(nt, 0);
-  for (Triangle tri : mesh.triangles()) {
-    const int t = tri.idx;
+  // Each macro edge moves only its own points of its two triangles (d1, d2
+  // and e of its side): the edges are corrected in parallel chunks, each
+  // once (from its smaller corner), then the triangles of the corrected
+  // ones are marked.
+  std::vector<Corner> edges;
+  for (Triangle tri : mesh.triangles())
     for (int k1 = 0; k1 < 3; ++k1) {
       const Corner e = SurfaceMesh::corner(tri, k1);
       const Corner o = mesh.opposite(e);
-      if (!o.is_valid() || o < e || is_feature_edge(mesh, e)) continue;
+      if (o.is_valid() && e < o && !is_feature_edge(mesh, e)) edges.push_back(e);
+    }
+  std::vector<char> corrected(edges.size(), 0);
+  const int ne = static_cast<int>(edges.size());
+  run_chunks(ne, chunk_count(ne, 8192), [&](int, int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      const Corner e = edges[static_cast<std::size_t>(i)];
+      const Corner o = mesh.opposite(e);
+      const int t = SurfaceMesh::triangle(e).idx;
+      const int k1 = SurfaceMesh::local_index(e);
       const int t2 = SurfaceMesh::triangle(o).idx;
       const int k2 = SurfaceMesh::local_index(o);
       Patch shared{}, shared2{};
@@ -406,8 +425,14 @@ std::vector<char> BezierSurface::correct_g1(const SurfaceMesh& mesh, const Surfa
       correct(rowB, dB2, dB1);
       SA[stored_slot(e_point(k1))] += w * (dA1 + dA2);
       SB[stored_slot(e_point(k2))] += w * (dB1 + dB2);
-      touched[t] = touched[t2] = 1;
+      corrected[static_cast<std::size_t>(i)] = 1;
     }
+  });
+  std::vector<char> touched(nt, 0);
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    if (!corrected[i]) continue;
+    touched[SurfaceMesh::triangle(edges[i]).idx] = 1;
+    touched[SurfaceMesh::triangle(mesh.opposite(edges[i])).idx] = 1;
   }
   return touched;
 }
