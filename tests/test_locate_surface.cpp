@@ -387,3 +387,28 @@ TEST_CASE("deleted triangle slots are never returned, stale hints are ignored") 
   }
   CHECK(bad == 0);
 }
+
+TEST_CASE("hints a dozen rings from the point: the walk across edges and fans lands on the closest triangle") {
+  // The walk crosses K's edge that holds the closest point while the
+  // triangle beyond is closer, then searches the vertices' fans: from a hint
+  // 12 rings away on a smooth scan it must still reach the brute-force
+  // answer, nearly always certified without the tree.
+  ANISURF_REQUIRE_SHARED(path, "meshes/bunny.off");
+  const SurfaceMesh m = load_mesh(path);
+  Locator loc(m);
+  const test::PointSampler sample(m);
+  std::mt19937_64 rng(29);
+  Tally tally;
+  for (int i = 0; i < 400; ++i) {
+    const auto np = sample(rng, 1e-4, 5e-3);
+    int hint = np.source;
+    for (int k = 0; k < 6; ++k) hint = nearby_triangle(m, hint, rng);
+    const Location r = loc.project(np.x, Hint{Triangle(hint)});
+    tally.add(m, r, np.x, test::brute_force_d2(m, sample.triangles(), np.x), sample.diagonal());
+  }
+  INFO("queries " << tally.queries << ", certified " << tally.certified << ", steps " << tally.steps);
+  CHECK(tally.bad == 0);
+  CHECK(tally.inconsistent == 0);
+  CHECK(tally.certified >= 0.9 * tally.queries);
+  CHECK(tally.steps >= tally.queries);  // the hints were far: the walk moved
+}

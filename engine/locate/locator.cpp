@@ -196,12 +196,19 @@ double Locator::Data::triangle_clearance(int t) const {
   const std::array<Vec3, 3> p = {pos(t, 0), pos(t, 1), pos(t, 2)};
   BBox box;
   for (const Vec3& q : p) box.add(q);
+  // A triangle whose bounding ball is as far from t's as the nearest so far
+  // cannot be nearer: skipped before the exact distance.
+  const Vec3 centre = tri[static_cast<std::size_t>(t)].centre();
+  const double radius = tri[static_cast<std::size_t>(t)].r;
   double best = INFINITY;
   tree.nearest([&](const Vec3& lo, const Vec3& hi) { return box_box_distance2(box.lo, box.hi, lo, hi); },
-               [&](int u, double) -> double {
+               [&](int u, double nearest) -> double {
                  const int* w = tv(u);
                  for (int i = 0; i < 3; ++i)
                    if (w[i] == v[0] || w[i] == v[1] || w[i] == v[2]) return INFINITY;
+                 const Tri& U = tri[static_cast<std::size_t>(u)];
+                 const double gap = norm(centre - U.centre()) - radius - U.r;
+                 if (gap > 0 && gap * gap >= nearest) return INFINITY;
                  return triangle_triangle_distance2(p, {pos(u, 0), pos(u, 1), pos(u, 2)});
                },
                best);
@@ -342,6 +349,19 @@ Location Locator::free_result(const TriangleClosest& c, int t, int steps, bool f
   return r;
 }
 
+namespace {
+// The local index of the vertex opposite the edge holding a closest point
+// (TriangleRegion::Edge01 -> 2, ...); -1 for the face and the vertices.
+int opposite_local_vertex(TriangleRegion r) {
+  switch (r) {
+    case TriangleRegion::Edge01: return 2;
+    case TriangleRegion::Edge12: return 0;
+    case TriangleRegion::Edge20: return 1;
+    default: return -1;
+  }
+}
+}  // namespace
+
 Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
   const Data& D = *d_;
   next_stamp();
@@ -375,13 +395,34 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
   };
   if (K < 0) return global(-1, INFINITY, 0);
 
+  // First across edges: while K's closest point to x lies inside one of its
+  // edges, the triangle beyond that edge is the likeliest closer one; step
+  // to it when it is closer (one distance a step, against the fans' dozen
+  // below). A triangle evaluated and not taken is no closer than K, and K
+  // only gets closer: every marked triangle stays at least as far as K.
+  int steps = 0;
+  for (int edge_steps = 0; edge_steps < D.options.max_steps; ++edge_steps) {
+    const int across = opposite_local_vertex(cK.region);
+    if (across < 0) break;  // the face or a vertex: the fans decide
+    const Corner o = D.mesh->opposite(SurfaceMesh::corner(Triangle(K), across));
+    if (!o.is_valid()) break;
+    const int t = SurfaceMesh::triangle(o).idx;
+    if (!D.live_triangle(t) || tmark_[t] == stamp_) break;
+    tmark_[t] = stamp_;
+    const TriangleClosest c = D.tri_closest(x, t);
+    if (!(c.distance2 < dK)) break;
+    K = t;
+    dK = c.distance2;
+    cK = c;
+    ++steps;
+  }
+
   // Section 4.2: move to the closest unmarked triangle of the neighbourhood
   // E(K) while it is closer (ties stay: the closest point is the same).
   // Every marked triangle is at least as far as K. When a vertex of K is
   // clear of every triangle not incident to it by more than |x - vertex| +
   // d(x, K), only its own fan can hold a closer triangle: that fan alone is
   // searched, and K is the closest of all when none there is closer.
-  int steps = 0;
   auto closer_among = [&](int v, double rK, int& best, double& bd, TriangleClosest& cbest) {
     for (int i = D.vt_first[v]; i < D.vt_first[v + 1]; ++i) {
       const int t = D.vt[i];
