@@ -861,3 +861,40 @@ TEST_CASE("placed_position: place()'s position, with and without the pull toward
   CHECK(pulled > 100);
   CHECK(free_points > 100);
 }
+
+TEST_CASE("remesh: the refusal memo is a cache: the same adapted mesh without it, in a coarsening of many rounds") {
+  // The fandisk's curvature metric with hausd coarsens the scan over many
+  // rounds whose split and collapse passes refuse the same edges again; the
+  // memo answers them while nothing changed around their ends.
+  ANISURF_REQUIRE_SHARED(path, "meshes/fandisk.off");
+  const SurfaceMesh in = load_mesh(path);
+  auto run = [&](bool memo) {
+    remesh::AdaptOptions o;
+    o.metric.source = MetricRecipe::Source::Curvature;
+    o.metric.hausd = 1e-3 * in.bbox().diagonal();
+    o.metric.hgrad = 0;
+    o.threads = 1;
+    o.remesh.refusal_memo = memo;
+    return remesh::adapt({in}, o);
+  };
+  const remesh::AdaptResult with = run(true), without = run(false);
+  REQUIRE(with.mesh.validate().ok());
+  int remembered = 0, remembered_without = 0;
+  for (const remesh::CycleReport& c : with.cycles)
+    for (const PassReport& p : c.passes) remembered += p.remembered_refusals;
+  for (const remesh::CycleReport& c : without.cycles)
+    for (const PassReport& p : c.passes) remembered_without += p.remembered_refusals;
+  MESSAGE("fandisk: " << in.n_triangles() << " -> " << with.mesh.n_triangles() << " triangles, " << remembered
+                      << " refusals remembered");
+  CHECK(remembered > 0);
+  CHECK(remembered_without == 0);
+  REQUIRE(with.mesh.n_vertices() == without.mesh.n_vertices());
+  REQUIRE(with.mesh.n_triangles() == without.mesh.n_triangles());
+  int moved = 0;
+  for (Vertex v : with.mesh.vertices()) moved += with.mesh.position(v) == without.mesh.position(v) ? 0 : 1;
+  CHECK(moved == 0);
+  int rewired = 0;
+  for (Triangle t : with.mesh.triangles())
+    for (int k = 0; k < 3; ++k) rewired += with.mesh.vertex(t, k) == without.mesh.vertex(t, k) ? 0 : 1;
+  CHECK(rewired == 0);
+}

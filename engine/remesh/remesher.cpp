@@ -120,6 +120,13 @@ Corner edge_corner(const SurfaceMesh& mesh, int hint, Vertex a, Vertex b) {
 
 std::array<int, 2> key(Vertex a, Vertex b) { return a.idx < b.idx ? std::array{a.idx, b.idx} : std::array{b.idx, a.idx}; }
 
+// The key of the edge from a to b in the refusal memo: directed, as a plan
+// is (a collapse tries its options in an order set by the edge's direction,
+// and reports the last refusal).
+std::uint64_t edge_key(Vertex a, Vertex b) {
+  return static_cast<std::uint64_t>(static_cast<std::uint32_t>(a.idx)) << 32 | static_cast<std::uint32_t>(b.idx);
+}
+
 // Counts a refusal of the operator of a `pass` pass (PassKind::Final: the
 // removal of a vertex of valence < 4; smoothing within the final pass counts
 // as PassKind::Smooth). The rule, one for every pass: a refusal is an element
@@ -262,6 +269,7 @@ void Remesher::mark(Vertex v) {
 }
 
 void Remesher::activate(Vertex v) {
+  note_change(v);
   const std::size_t i = static_cast<std::size_t>(v.idx);
   if (i >= swap_active_.size()) {
     const std::size_t n = std::max<std::size_t>(i + 1, static_cast<std::size_t>(mesh_.mesh().vertex_capacity()));
@@ -273,6 +281,7 @@ void Remesher::activate(Vertex v) {
 }
 
 void Remesher::stamp(Vertex v) {
+  note_change(v);
   if (flat_bits_.empty()) return;
   const SurfaceMesh& mesh = mesh_.mesh();
   if (mesh.is_isolated(v)) return;
@@ -285,7 +294,51 @@ void Remesher::forget_triangle(Triangle t) {
     if (slot / 64 < flat_bits_.size()) flat_bits_[slot / 64] &= ~(std::uint64_t{1} << (slot % 64));
 }
 
+void Remesher::note_change(Vertex v) {
+  const std::size_t i = static_cast<std::size_t>(v.idx);
+  if (i >= changed_at_.size())
+    changed_at_.resize(std::max<std::size_t>(i + 1, static_cast<std::size_t>(mesh_.mesh().vertex_capacity())), 0);
+  changed_at_[i] = ++tick_;
+}
+
+const Remesher::Refusal* Remesher::remembered_refusal(RefusalMemo& memo, Vertex a, Vertex b) {
+  const std::uint64_t key = edge_key(a, b);
+  auto found = memo.current.find(key);
+  if (found == memo.current.end()) {
+    const auto before = memo.previous.find(key);
+    if (before == memo.previous.end()) return nullptr;
+    found = memo.current.emplace(key, before->second).first;
+  }
+  const std::uint64_t tick = found->second.tick;
+  const SurfaceMesh& mesh = mesh_.mesh();
+  auto changed = [&](Vertex v) {
+    const std::size_t i = static_cast<std::size_t>(v.idx);
+    return i < changed_at_.size() && changed_at_[i] > tick;
+  };
+  bool stale = changed(a) || changed(b);
+  for (Vertex end : {a, b})
+    for (Vertex w : mesh.ring_vertices(end)) stale = stale || changed(w);
+  if (stale) {
+    memo.current.erase(found);
+    return nullptr;
+  }
+  return &found->second;
+}
+
+void Remesher::start_refusal_pass(RefusalMemo& memo) {
+  memo.previous.clear();
+  memo.previous.swap(memo.current);
+}
+
+void Remesher::forget_refusals() {
+  for (RefusalMemo* memo : {&split_refusals_, &collapse_refusals_}) {
+    memo->current.clear();
+    memo->previous.clear();
+  }
+}
+
 void Remesher::record_touched(PassReport& r, Vertex v) {
+  note_change(v);
   if (!options_.record_touched) return;
   const std::size_t i = static_cast<std::size_t>(v.idx);
   if (i >= touched_mark_.size()) touched_mark_.resize(std::max<std::size_t>(i + 1, static_cast<std::size_t>(mesh_.mesh().vertex_capacity())), 0);
@@ -341,6 +394,7 @@ int Remesher::local_swaps(Vertex v, PassReport& r) {
     // each holds one new link edge (the side opposite v).
     for (Corner x : {d, mesh.opposite(d)}) {
       forget_triangle(M::triangle(x));
+      for (int k = 0; k < 3; ++k) note_change(mesh.vertex(M::triangle(x), k));
       const Corner cv = mesh.corner_of(M::triangle(x), v);
       if (cv.is_valid()) queue.push_back({mesh.vertex(M::next(cv)).idx, mesh.vertex(M::prev(cv)).idx});
     }
@@ -377,6 +431,9 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
   const OperatorOptions& o = options_.op;
   EdgeHeap<typename Edges::Order> heap(heap_);
   auto sags = [this](Corner c) { return edge_sags(c); };
+  RefusalMemo* memo = !memo_on_ || !options_.refusal_memo ? nullptr
+                      : Edges::kind == PassKind::Split ? &split_refusals_
+                                                       : &collapse_refusals_;
   // Room for every edge at once: a heap grown by doubling holds its old and
   // new storage together at each step.
   heap_.reserve(static_cast<std::size_t>(mesh.n_triangles()) * 3 / 2 + 16);
@@ -406,9 +463,17 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
       refuse(r, Edges::kind, Rejection::Cache);
       continue;
     }
+    if (memo) {
+      if (const Refusal* known = remembered_refusal(*memo, mesh.edge_from(c), mesh.edge_to(c))) {
+        refuse(r, Edges::kind, known->why);
+        ++r.remembered_refusals;
+        continue;
+      }
+    }
     const auto plan = Edges::plan(mesh_, c, length, o);
     if (plan.why != Rejection::None) {
       refuse(r, Edges::kind, plan.why);
+      if (memo) memo->current[edge_key(mesh.edge_from(c), mesh.edge_to(c))] = {tick_, plan.why};
       continue;
     }
     ++changes;
@@ -899,6 +964,8 @@ PassReport Remesher::measure() const {
 
 PassReport Remesher::step(PassKind kind) {
   has_last_ = false;  // the schedule's shortcut (an unchanged state) no longer holds
+  forget_refusals();  // the mesh may have been edited since the last pass
+  memo_on_ = false;
   return step(kind, nullptr, true);
 }
 
@@ -912,6 +979,9 @@ PassReport Remesher::step(PassKind kind, const PassReport* previous, bool measur
   PassReport r;
   r.kind = kind;
   r.round = schedule_.round;
+  if (kind == PassKind::Split) start_refusal_pass(split_refusals_);
+  if (kind == PassKind::Collapse) start_refusal_pass(collapse_refusals_);
+  if (kind == PassKind::Final) forget_refusals();
   switch (kind) {
     case PassKind::Split: split_pass(r); break;
     case PassKind::Collapse: collapse_pass(r); break;
@@ -947,6 +1017,7 @@ PassReport Remesher::step(PassKind kind, const PassReport* previous, bool measur
 }
 
 void Remesher::set_schedule(const Schedule& s) {
+  forget_refusals();
   schedule_ = s;
   has_last_ = false;
   mark_all();
@@ -1018,7 +1089,9 @@ PassReport Remesher::advance_schedule() {
   }
   const std::vector<PassKind> plan = round_plan();
   const bool round_end = static_cast<std::size_t>(s.pass) + 1 == plan.size();
+  memo_on_ = true;  // a round's split and collapse passes consult the refusal memo
   PassReport r = step(plan[static_cast<std::size_t>(s.pass)], previous(), round_end || options_.measure_every_pass);
+  memo_on_ = false;
   s.round_changes += r.splits + r.collapses;  // only the split and collapse passes make either
   if (round_end) {
     s.round_band.push_back(r.in_band_share);
@@ -1032,6 +1105,7 @@ PassReport Remesher::advance_schedule() {
 }
 
 void Remesher::set_stage_metric(int stage) {
+  forget_refusals();  // every metric changes
   const int stages = std::max(0, options_.relaxation_stages);
   if (stages == 0) return;
   mesh_.control().set_relaxation(static_cast<double>(stage + 1) / (stages + 1));

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <deque>
 #include <functional>
+#include <unordered_map>
 #include <string_view>
 #include <vector>
 
@@ -85,6 +86,13 @@ struct RemeshOptions {
   // The split passes remember the edges found not to sag off the input (a
   // cache: the output is the same without it, only slower).
   bool sag_memo = true;
+  // The split and collapse passes of the rounds remember the edges they
+  // refused, and refuse them again, unplanned and for the same reason, while
+  // nothing changed within a ring of either end (a cache: a plan depends on
+  // the two fans and the rings around them only, so the output is the same
+  // without it, only slower: the late rounds of a coarsening refuse the
+  // same few thousand edges again and again).
+  bool refusal_memo = true;
   // run() measures the state (histogram, quality) after every pass; off:
   // only after the last pass of each round and the final pass (a sweep over
   // the mesh saved per pass; step() always measures).
@@ -174,6 +182,9 @@ struct PassReport {
   // Refusals per filter (indexed by Rejection), all operators together;
   // what counts as a refusal: refuse() in remesher.cpp.
   std::array<int, kRejectionCount> rejected{};
+  // Of those, the refusals the refusal memo answered without a plan
+  // (RemeshOptions::refusal_memo).
+  int remembered_refusals = 0;
   // State after the pass: sizes, edge lengths in the metric (bins of
   // kLengthBins: 0, 0.3, 0.6, 0.71, 0.9, 1.3, 1.41, 2, 5), quality eq. 17.
   int vertices = 0, triangles = 0, edges = 0;
@@ -395,6 +406,29 @@ class Remesher {
   // Per corner slot, a bit: the edge it names (at its lower corner) was
   // found not to sag and neither end was stamped since (edge_sags).
   std::vector<std::uint64_t> flat_bits_;
+
+  // The refusal memo (RemeshOptions::refusal_memo). Every change of a
+  // vertex's position, metric or fan sets its clock to the next tick
+  // (note_change); a refusal is remembered with the tick it was planned at,
+  // and holds while no vertex of the edge's ends and rings has a later one.
+  struct Refusal {
+    std::uint64_t tick = 0;
+    Rejection why = Rejection::None;
+  };
+  struct RefusalMemo {
+    std::unordered_map<std::uint64_t, Refusal> current, previous;  // this pass's refusals, the last pass's
+  };
+  void note_change(Vertex v);
+  // The refusal remembered for edge (a, b) when it still holds (kept for the
+  // pass after this one), else nullptr.
+  const Refusal* remembered_refusal(RefusalMemo& memo, Vertex a, Vertex b);
+  // A new pass of that kind: the last pass's refusals become the ones to consult.
+  void start_refusal_pass(RefusalMemo& memo);
+  void forget_refusals();
+  std::uint64_t tick_ = 0;
+  std::vector<std::uint64_t> changed_at_;  // per vertex slot: the tick of its last change
+  RefusalMemo split_refusals_, collapse_refusals_;
+  bool memo_on_ = false;  // the pass running is a round's (step() from the schedule)
 };
 
 }  // namespace anisurf::remesh
