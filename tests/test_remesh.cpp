@@ -805,6 +805,24 @@ TEST_CASE("remesh: the schedule walks round_plan() round after round, at most ma
   check_state(*s->adapted, "two rounds");
 }
 
+namespace {
+
+// The same vertices at the same positions, and the same triangles, slot by
+// slot: what a cache must leave as it was.
+void check_same_mesh(const SurfaceMesh& a, const SurfaceMesh& b) {
+  REQUIRE(a.n_vertices() == b.n_vertices());
+  REQUIRE(a.n_triangles() == b.n_triangles());
+  int moved = 0;
+  for (Vertex v : a.vertices()) moved += a.position(v) == b.position(v) ? 0 : 1;
+  CHECK(moved == 0);
+  int rewired = 0;
+  for (Triangle t : a.triangles())
+    for (int k = 0; k < 3; ++k) rewired += a.vertex(t, k) == b.vertex(t, k) ? 0 : 1;
+  CHECK(rewired == 0);
+}
+
+}  // namespace
+
 TEST_CASE("remesh: the sag memo is a cache: the same adapted mesh without it, where many edges sag off the input") {
   // The fandisk's curvature metric with hausd: the split passes measure the
   // sag of every edge, again after each change around it; the memo keeps the
@@ -826,15 +844,7 @@ TEST_CASE("remesh: the sag memo is a cache: the same adapted mesh without it, wh
     for (const PassReport& p : c.passes) splits += p.splits;
   MESSAGE("fandisk: " << with.mesh.n_triangles() << " triangles, " << splits << " splits");
   CHECK(splits > 0);
-  REQUIRE(with.mesh.n_vertices() == without.mesh.n_vertices());
-  REQUIRE(with.mesh.n_triangles() == without.mesh.n_triangles());
-  int moved = 0;
-  for (Vertex v : with.mesh.vertices()) moved += with.mesh.position(v) == without.mesh.position(v) ? 0 : 1;
-  CHECK(moved == 0);
-  int rewired = 0;
-  for (Triangle t : with.mesh.triangles())
-    for (int k = 0; k < 3; ++k) rewired += with.mesh.vertex(t, k) == without.mesh.vertex(t, k) ? 0 : 1;
-  CHECK(rewired == 0);
+  check_same_mesh(with.mesh, without.mesh);
 }
 
 TEST_CASE("placed_position: place()'s position, with and without the pull towards the input") {
@@ -888,13 +898,5 @@ TEST_CASE("remesh: the refusal memo is a cache: the same adapted mesh without it
                       << " refusals remembered");
   CHECK(remembered > 0);
   CHECK(remembered_without == 0);
-  REQUIRE(with.mesh.n_vertices() == without.mesh.n_vertices());
-  REQUIRE(with.mesh.n_triangles() == without.mesh.n_triangles());
-  int moved = 0;
-  for (Vertex v : with.mesh.vertices()) moved += with.mesh.position(v) == without.mesh.position(v) ? 0 : 1;
-  CHECK(moved == 0);
-  int rewired = 0;
-  for (Triangle t : with.mesh.triangles())
-    for (int k = 0; k < 3; ++k) rewired += with.mesh.vertex(t, k) == without.mesh.vertex(t, k) ? 0 : 1;
-  CHECK(rewired == 0);
+  check_same_mesh(with.mesh, without.mesh);
 }
