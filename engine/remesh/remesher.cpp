@@ -338,7 +338,6 @@ void Remesher::forget_refusals() {
 }
 
 void Remesher::record_touched(PassReport& r, Vertex v) {
-  note_change(v);
   if (!options_.record_touched) return;
   const std::size_t i = static_cast<std::size_t>(v.idx);
   if (i >= touched_mark_.size()) touched_mark_.resize(std::max<std::size_t>(i + 1, static_cast<std::size_t>(mesh_.mesh().vertex_capacity())), 0);
