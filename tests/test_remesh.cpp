@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include <cmath>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <random>
@@ -899,4 +900,59 @@ TEST_CASE("remesh: the refusal memo is a cache: the same adapted mesh without it
   CHECK(remembered > 0);
   CHECK(remembered_without == 0);
   check_same_mesh(with.mesh, without.mesh);
+}
+
+TEST_CASE("remesh: the rounds end once a round's splits and collapses balance (after balance_after_rounds)") {
+  // The fandisk's ungraded curvature metric with hausd: after the first
+  // collapses, each round splits and collapses a few dozen edges. With a
+  // balance_share of 0.2 the stage ends at the first round past the fourth
+  // whose splits and collapses differ by less than a fifth of the larger;
+  // without the rule it runs on, and the two meshes are alike.
+  ANISURF_REQUIRE_SHARED(path, "meshes/fandisk.off");
+  const SurfaceMesh in = load_mesh(path);
+  auto run = [&](int after) {
+    remesh::AdaptOptions o;
+    o.metric.source = MetricRecipe::Source::Curvature;
+    o.metric.hausd = 1e-3 * in.bbox().diagonal();
+    o.metric.hgrad = 0;
+    o.threads = 1;
+    o.remesh.balance_after_rounds = after;
+    o.remesh.balance_share = 0.2;
+    return remesh::adapt({in}, o);
+  };
+  // Per round: splits and collapses.
+  auto rounds = [](const remesh::AdaptResult& r) {
+    std::map<int, std::pair<int, int>> out;
+    for (const PassReport& p : r.cycles.at(0).passes) {
+      if (p.kind == PassKind::Final || p.round == 0) continue;
+      out[p.round].first += p.splits;
+      out[p.round].second += p.collapses;
+    }
+    return out;
+  };
+  auto balanced = [](const std::pair<int, int>& sc) {
+    return std::abs(sc.first - sc.second) < 0.2 * std::max(sc.first, sc.second);
+  };
+  const int after = 4;
+  const remesh::AdaptResult with = run(after), without = run(0);
+  REQUIRE(with.mesh.validate().ok());
+  REQUIRE(without.mesh.validate().ok());
+  const auto rw = rounds(with), ro = rounds(without);
+  // The first balanced round past `after` in the run without the rule.
+  int first = 0;
+  for (const auto& [round, sc] : ro)
+    if (round > after && balanced(sc)) {
+      first = round;
+      break;
+    }
+  MESSAGE("fandisk: " << ro.size() << " rounds without the rule, " << rw.size() << " with; first balanced round "
+                      << first);
+  REQUIRE(first > 0);  // the case exercises the rule
+  REQUIRE(first < static_cast<int>(ro.size()));
+  CHECK(static_cast<int>(rw.size()) == first);
+  for (const auto& [round, sc] : rw) CHECK(ro.at(round) == sc);  // the same rounds up to there
+  CHECK(balanced(rw.rbegin()->second));
+  CHECK(with.cycles.at(0).final.in_band_share > without.cycles.at(0).final.in_band_share - 0.02);
+  CHECK(std::abs(with.mesh.n_triangles() - without.mesh.n_triangles()) < 0.05 * without.mesh.n_triangles());
+  CHECK(with.cycles.at(0).inverted_after <= with.cycles.at(0).inverted_before);
 }

@@ -206,6 +206,42 @@ TEST_CASE("remesh by regions: a coarsening's band in pieces, then the band of th
   }
 }
 
+TEST_CASE("remesh by regions: a coarsening's band is coarsening_band_rings wide, narrower than a refinement's, with its figures") {
+  // The icosphere coarsened as above on 2 threads, the band 3 rings around
+  // the borders (the default of a coarsening) against 4: fewer vertices to
+  // remesh again, the same figures.
+  auto run = [](int rings) {
+    auto s = make_setup(test::build(test::icosphere(5)), 0.12);
+    ParallelOptions p;
+    p.threads = 2;
+    p.min_region_work = 500;
+    p.min_round_work = 500;
+    p.coarsening_band_rings = rings;
+    RemeshOptions o = band_remesh_options();
+    const int n = region_count(*s->adapted, p);
+    std::vector<PassReport> passes = run_in_regions(*s->adapted, o, p);
+    check_valid(s->adapted->mesh(), "after the run");
+    CHECK(s->adapted->count_inverted() == 0);
+    // The vertices of each band region (pieces and seams) after its first pass.
+    int band_vertices = 0;
+    std::set<int> seen;
+    for (const PassReport& r : passes)
+      if (r.region >= n && seen.insert(r.region).second) band_vertices += r.vertices;
+    return std::make_pair(Remesher(*s->adapted, o).measure(), band_vertices);
+  };
+  CHECK(ParallelOptions{}.coarsening_band_rings < ParallelOptions{}.band_rings);
+  const auto [narrow, narrow_vertices] = run(ParallelOptions{}.coarsening_band_rings);
+  const auto [wide, wide_vertices] = run(4);
+  MESSAGE("band vertices: " << narrow_vertices << " (" << ParallelOptions{}.coarsening_band_rings << " rings) against "
+                            << wide_vertices << " (4 rings)");
+  CHECK(narrow_vertices > 0);
+  CHECK(narrow_vertices < wide_vertices);
+  CHECK(narrow.in_band_share >= wide.in_band_share - 0.01);
+  CHECK(narrow.length_max <= 1.6);
+  CHECK(narrow.q_mean >= wide.q_mean - 0.02);
+  CHECK(std::abs(narrow.vertices - wide.vertices) <= 0.05 * wide.vertices);
+}
+
 TEST_CASE("region count: one round of regions for a small work, whole rounds beyond it") {
   auto s = make_setup(test::asset_file("demo.mesh"), 0.05);
   double work = 0;

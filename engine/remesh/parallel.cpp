@@ -351,7 +351,8 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
   // lower a triangle's quality for the smoothing to raise it again, which
   // the band's frozen border prevents there; the regions made them).
   SurfaceMesh& mesh = m.mesh();
-  std::vector<int> band = band_around(mesh, seeds, p.band_rings);
+  const int rings = coarsening ? p.coarsening_band_rings : p.band_rings;
+  std::vector<int> band = band_around(mesh, seeds, rings);
   std::vector<Vertex>().swap(seeds);
   fill_pinched_fans(mesh, band);
   RemeshOptions band_options = options;
@@ -376,7 +377,7 @@ std::vector<PassReport> run_in_regions(AdaptedMesh& m, const RemeshOptions& opti
     if (!remesh_parts(m, piece, pieces, piece_options, p.threads, false, index, serial_progress, nullptr, out)) return out;
     index += pieces;
     std::vector<int>().swap(piece);
-    band = band_around(mesh, seams, p.band_rings);
+    band = band_around(mesh, seams, rings);
     fill_pinched_fans(mesh, band);
     if (std::find(band.begin(), band.end(), 0) == band.end()) return out;  // no seam: the pieces were apart
   }

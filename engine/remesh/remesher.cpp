@@ -1065,7 +1065,8 @@ PassReport Remesher::advance() {
 //   2. per stage (Remark 6: the relaxed metrics, then the target), rounds of
 //      round_plan() (steps 1-2 for every edge, then swaps and smoothing over
 //      what changed) until a round splits and collapses at most
-//      converged_share of the vertices, or max_rounds rounds;
+//      converged_share of the vertices, the rounds stagnate, a round's
+//      splits and collapses balance, or max_rounds rounds;
 //   3. the final optimisation (vertices of valence < 4, smoothing 8-10 times).
 PassReport Remesher::advance_schedule() {
   Schedule& s = schedule_;
@@ -1085,6 +1086,7 @@ PassReport Remesher::advance_schedule() {
     ++s.round;
     ++s.stage_rounds;
     s.round_changes = 0;
+    s.round_splits = 0;
   }
   const std::vector<PassKind> plan = round_plan();
   const bool round_end = static_cast<std::size_t>(s.pass) + 1 == plan.size();
@@ -1092,6 +1094,7 @@ PassReport Remesher::advance_schedule() {
   PassReport r = step(plan[static_cast<std::size_t>(s.pass)], previous(), round_end || options_.measure_every_pass);
   memo_on_ = false;
   s.round_changes += r.splits + r.collapses;  // only the split and collapse passes make either
+  s.round_splits += r.splits;
   if (round_end) {
     s.round_band.push_back(r.in_band_share);
     s.round_change.push_back(s.round_changes);
@@ -1123,7 +1126,7 @@ void Remesher::end_round() {
   Schedule& s = schedule_;
   s.pass = 0;
   const bool converged = s.round_changes <= options_.converged_share * mesh_.mesh().n_vertices();
-  if (!converged && !stagnated() && s.stage_rounds < options_.max_rounds) return;
+  if (!converged && !stagnated() && !balanced() && s.stage_rounds < options_.max_rounds) return;
   s.round_band.clear();
   s.round_change.clear();
   if (s.stage < std::max(0, options_.relaxation_stages)) {
@@ -1145,6 +1148,13 @@ bool Remesher::stagnated() const {
   for (std::size_t i = n - k; i < n; ++i)
     if (s.round_change[i] > few || s.round_band[i] > before + options_.stagnation_band_gain) return false;
   return true;
+}
+
+bool Remesher::balanced() const {
+  const Schedule& s = schedule_;
+  if (options_.balance_after_rounds <= 0 || s.stage_rounds <= options_.balance_after_rounds) return false;
+  const int splits = s.round_splits, collapses = s.round_changes - s.round_splits;
+  return std::abs(splits - collapses) < options_.balance_share * std::max(splits, collapses);
 }
 
 std::vector<PassReport> Remesher::run(const std::function<void(const PassReport&)>& progress,

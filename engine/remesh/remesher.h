@@ -41,6 +41,14 @@ struct RemeshOptions {
   int stagnation_rounds = 3;
   double stagnation_share = 0.1;
   double stagnation_band_gain = 0.002;
+  // ... or when, after balance_after_rounds rounds of the stage, a round's
+  // splits and collapses differ by less than balance_share of the larger:
+  // they undo each other's work and the vertex count no longer moves (Mmg's
+  // rule for its surface and volume loops; on falcon.mesh's ungraded
+  // curvature metric rounds 6-10 each split ~40 edges and collapse as many,
+  // the band share within 0.5%). 0 rounds: off.
+  int balance_after_rounds = 4;
+  double balance_share = 0.1;
   int smoothing_passes = 1;          // smoothing passes per round
   // A move that raises the worst quality of its fan by less than this
   // leaves its neighbourhood unmarked: the next smoothing and swap passes
@@ -230,6 +238,7 @@ struct Schedule {
   int stage_rounds = 0;        // rounds of this stage
   int pass = 0;                // next pass of the round: an index into Remesher::round_plan()
   int round_changes = 0;       // splits + collapses of the round so far
+  int round_splits = 0;        // ... of which splits
   // The rounds of the stage that ended (the stagnation test).
   std::vector<double> round_band;   // in-band share at the end of the round
   std::vector<int> round_change;    // splits + collapses
@@ -308,6 +317,8 @@ class Remesher {
   void end_round();
   // The stage's last rounds stagnate (RemeshOptions::stagnation_rounds).
   bool stagnated() const;
+  // The round's splits and collapses balance (RemeshOptions::balance_share).
+  bool balanced() const;
   // Polls the interrupt check (every 256 calls); sticky within a pass.
   bool interrupted(PassReport& r);
   void split_pass(PassReport& r);
