@@ -1118,7 +1118,8 @@ std::string run_state_tooltip(RunState state, const std::string& error) {
              "The passes are kept: Run or Step goes on from the pass shown.";
     case RunState::Converged:
       return "The adaptation converged: its last round changed (almost) nothing\n"
-             "(at most 1% of the vertices split or collapsed, or the rounds stopped gaining).\n"
+             "(at most 1% of the vertices split or collapsed, its splits and collapses\n"
+             "undid each other, or the rounds stopped gaining).\n"
              "Run again does nothing: change the metric or the band, or Reset.";
     case RunState::Cancelled:
       return "The last run was cancelled: its passes were dropped and the timeline\n"

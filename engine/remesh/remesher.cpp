@@ -39,16 +39,20 @@ float order_key(double length) {
 }
 
 // Heap orders (std::priority_queue's "less"): Longer puts the longest edge
-// on top, Shorter the shortest; within a key, the lowest first slot.
+// on top, Shorter the shortest; within a key, the lowest first slot. The
+// key (a length, never negative) and the slot (never negative) compare as
+// one 64-bit integer: the key's bits (ordered as the floats are), then the
+// slot, or its complement for the lowest slot first among the longest.
+std::uint64_t length_then_slot(const EdgeItem& x) {
+  return std::uint64_t{std::bit_cast<std::uint32_t>(x.length)} << 32 | static_cast<std::uint32_t>(x.a);
+}
 struct Longer {
   bool operator()(const EdgeItem& x, const EdgeItem& y) const {
-    return x.length < y.length || (x.length == y.length && x.a > y.a);
+    return (length_then_slot(x) ^ 0xffffffffu) < (length_then_slot(y) ^ 0xffffffffu);
   }
 };
 struct Shorter {
-  bool operator()(const EdgeItem& x, const EdgeItem& y) const {
-    return x.length > y.length || (x.length == y.length && x.a > y.a);
-  }
+  bool operator()(const EdgeItem& x, const EdgeItem& y) const { return length_then_slot(x) > length_then_slot(y); }
 };
 
 // A 4-ary heap over storage kept from pass to pass; Order puts the edge to
