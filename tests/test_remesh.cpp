@@ -873,6 +873,21 @@ TEST_CASE("placed_position: place()'s position, with and without the pull toward
   CHECK(free_points > 100);
 }
 
+namespace {
+
+// The fandisk's ungraded curvature metric at hausd 1e-3 of its diagonal, on
+// one thread: a coarsening of many rounds.
+remesh::AdaptOptions fandisk_coarsening(const SurfaceMesh& in) {
+  remesh::AdaptOptions o;
+  o.metric.source = MetricRecipe::Source::Curvature;
+  o.metric.hausd = 1e-3 * in.bbox().diagonal();
+  o.metric.hgrad = 0;
+  o.threads = 1;
+  return o;
+}
+
+}  // namespace
+
 TEST_CASE("remesh: the refusal memo is a cache: the same adapted mesh without it, in a coarsening of many rounds") {
   // The fandisk's curvature metric with hausd coarsens the scan over many
   // rounds whose split and collapse passes refuse the same edges again; the
@@ -880,11 +895,7 @@ TEST_CASE("remesh: the refusal memo is a cache: the same adapted mesh without it
   ANISURF_REQUIRE_SHARED(path, "meshes/fandisk.off");
   const SurfaceMesh in = load_mesh(path);
   auto run = [&](bool memo) {
-    remesh::AdaptOptions o;
-    o.metric.source = MetricRecipe::Source::Curvature;
-    o.metric.hausd = 1e-3 * in.bbox().diagonal();
-    o.metric.hgrad = 0;
-    o.threads = 1;
+    remesh::AdaptOptions o = fandisk_coarsening(in);
     o.remesh.refusal_memo = memo;
     return remesh::adapt({in}, o);
   };
@@ -911,11 +922,7 @@ TEST_CASE("remesh: the rounds end once a round's splits and collapses balance (a
   ANISURF_REQUIRE_SHARED(path, "meshes/fandisk.off");
   const SurfaceMesh in = load_mesh(path);
   auto run = [&](int after) {
-    remesh::AdaptOptions o;
-    o.metric.source = MetricRecipe::Source::Curvature;
-    o.metric.hausd = 1e-3 * in.bbox().diagonal();
-    o.metric.hgrad = 0;
-    o.threads = 1;
+    remesh::AdaptOptions o = fandisk_coarsening(in);
     o.remesh.balance_after_rounds = after;
     o.remesh.balance_share = 0.2;
     return remesh::adapt({in}, o);
