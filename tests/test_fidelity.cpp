@@ -474,19 +474,20 @@ TEST_CASE("fidelity: a coarse scan refined to diagonal/150 splits every long inp
 }
 
 TEST_CASE("fidelity: an isotropic size wider than a rounded tip keeps its size and no chord cuts across the tip") {
-  // featuretype.STL at diagonal / 50 to 70: a tongue 0.19 high whose
+  // featuretype.STL at diagonal / 45 to 70: a tongue 0.19 high whose
   // end is a half circle of radius about 0.05, half the size. Without the
   // size protection a chord across the end's wall may sag by a third of h
   // (0.59% of the diagonal); the protection splits the midpoints farther
   // than h / 10 onto the input and leaves the rest of the mesh at its size.
-  // Where the chords happen to miss the tip both runs are alike: the
+  // Where the chords happen to miss the tip both runs are alike (which sizes
+  // put a chord across it follows the order the edges are taken in): the
   // protection must never make the distance worse, and act at one size at
   // least.
   ANISURF_REQUIRE_SHARED(path, "meshes/featuretype.STL");
   const SurfaceMesh in = load_mesh(path);
   const double diagonal = in.bbox().diagonal();
   int acted = 0;
-  for (double fraction : {50.0, 55.0, 60.0, 65.0, 70.0}) {
+  for (double fraction : {45.0, 50.0, 52.5, 55.0, 60.0, 65.0, 70.0}) {
     const double h = diagonal / fraction;
     remesh::AdaptOptions o = iso_options(h);
     remesh::AdaptOptions unprotected = o;

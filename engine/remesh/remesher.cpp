@@ -25,7 +25,6 @@ constexpr double kCreaseSplitBound = 0.1;
 using M = SurfaceMesh;
 using Clock = std::chrono::steady_clock;
 
-using EdgeItem = Remesher::EdgeItem;
 // The order key of a collapse of metric length l: l rounded down to 5 bits
 // of mantissa (steps of 1/32 to 1/64 of the length). Edges within a step
 // are taken in the order of their first vertex's slot instead of their
@@ -37,80 +36,6 @@ float order_key(double length) {
   if (!(f > 0) || !std::isfinite(f)) return f;
   return std::bit_cast<float>(std::bit_cast<std::uint32_t>(f) & ~((std::uint32_t{1} << 18) - 1));
 }
-
-// Heap orders (std::priority_queue's "less"): Longer puts the longest edge
-// on top, Shorter the shortest; within a key, the lowest first slot. The
-// key (a length, never negative) and the slot (never negative) compare as
-// one 64-bit integer: the key's bits (ordered as the floats are), then the
-// slot, or its complement for the lowest slot first among the longest.
-std::uint64_t length_then_slot(const EdgeItem& x) {
-  return std::uint64_t{std::bit_cast<std::uint32_t>(x.length)} << 32 | static_cast<std::uint32_t>(x.a);
-}
-struct Longer {
-  bool operator()(const EdgeItem& x, const EdgeItem& y) const {
-    return (length_then_slot(x) ^ 0xffffffffu) < (length_then_slot(y) ^ 0xffffffffu);
-  }
-};
-struct Shorter {
-  bool operator()(const EdgeItem& x, const EdgeItem& y) const { return length_then_slot(x) > length_then_slot(y); }
-};
-
-// A 4-ary heap over storage kept from pass to pass; Order puts the edge to
-// treat first on top. Four children of 16 bytes share a cache line, so a
-// pop through a heap of a million edges misses the cache about half as
-// often as a binary heap's.
-template <class Order>
-class EdgeHeap {
- public:
-  explicit EdgeHeap(std::vector<EdgeItem>& storage) : items_(storage) { items_.clear(); }
-  bool empty() const { return items_.empty(); }
-  // Adds an item without ordering: heapify() must follow before the next pop.
-  void append(const EdgeItem& it) { items_.push_back(it); }
-  // Orders the items appended (bottom-up, linear time).
-  void heapify() {
-    const std::size_t n = items_.size();
-    if (n < 2) return;
-    for (std::size_t i = (n - 2) / kArity + 1; i-- > 0;) sift_down(i);
-  }
-  void push(const EdgeItem& it) {
-    items_.push_back(it);
-    std::size_t i = items_.size() - 1;
-    while (i > 0) {
-      const std::size_t parent = (i - 1) / kArity;
-      if (!Order()(items_[parent], it)) break;
-      items_[i] = items_[parent];
-      i = parent;
-    }
-    items_[i] = it;
-  }
-  EdgeItem pop() {
-    const EdgeItem top = items_.front();
-    items_.front() = items_.back();
-    items_.pop_back();
-    if (!items_.empty()) sift_down(0);
-    return top;
-  }
-
- private:
-  static constexpr std::size_t kArity = 4;
-  void sift_down(std::size_t i) {
-    const std::size_t n = items_.size();
-    const EdgeItem moving = items_[i];
-    for (;;) {
-      const std::size_t first = kArity * i + 1;
-      if (first >= n) break;
-      const std::size_t last = std::min(first + kArity, n);
-      std::size_t best = first;
-      for (std::size_t c = first + 1; c < last; ++c)
-        if (Order()(items_[best], items_[c])) best = c;
-      if (!Order()(moving, items_[best])) break;
-      items_[i] = items_[best];
-      i = best;
-    }
-    items_[i] = moving;
-  }
-  std::vector<EdgeItem>& items_;
-};
 
 // The corner naming edge a -> b: `hint` while it still names it (the corner
 // recorded when the edge was queued), else found around a.
@@ -147,11 +72,11 @@ void refuse(PassReport& r, PassKind pass, Rejection why) {
 }
 
 // The two sides of the band [lmin, lmax] for Remesher::priority_pass:
-// which edges are outside, the heap order that puts the farthest on top, the
+// which edges are outside, the queue order that takes the farthest first, the
 // operator's plan.
 struct SplitEdges {
   static constexpr PassKind kind = PassKind::Split;
-  using Order = Longer;
+  using Order = LongestFirst;
   // Too long, or (section 5's fidelity) too far off the input surface.
   template <class Sags>
   static bool outside(Sags&& sags, Corner c, double length, const OperatorOptions& o) {
@@ -166,7 +91,7 @@ struct SplitEdges {
 };
 struct CollapseEdges {
   static constexpr PassKind kind = PassKind::Collapse;
-  using Order = Shorter;
+  using Order = ShortestFirst;
   template <class Sags>
   static bool outside(Sags&&, Corner, double length, const OperatorOptions& o) { return length < o.lmin; }
   static float key(double length) { return order_key(length); }
@@ -432,20 +357,20 @@ template <class Edges>
 int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
   SurfaceMesh& mesh = mesh_.mesh();
   const OperatorOptions& o = options_.op;
-  EdgeHeap<typename Edges::Order> heap(heap_);
+  EdgeQueue<typename Edges::Order> queue(queue_);
   auto sags = [this](Corner c) { return edge_sags(c); };
   RefusalMemo* memo = !memo_on_ || !options_.refusal_memo ? nullptr
                       : Edges::kind == PassKind::Split ? &split_refusals_
                                                        : &collapse_refusals_;
-  // Room for every edge at once: a heap grown by doubling holds its old and
-  // new storage together at each step.
-  heap_.reserve(static_cast<std::size_t>(mesh.n_triangles()) * 3 / 2 + 16);
+  // Room for every edge at once: an array grown by doubling holds its old
+  // and new storage together at each step.
+  queue_.initial.reserve(static_cast<std::size_t>(mesh.n_triangles()) * 3 / 2 + 16);
   for (Corner c : mesh.edges()) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     const double l = mesh_.length(a, b);
-    if (Edges::outside(sags, c, l, o)) heap.append({Edges::key(l), a.idx, b.idx, c.idx});
+    if (Edges::outside(sags, c, l, o)) queue.append(Edges::key(l), a.idx, b.idx, c.idx);
   }
-  heap.heapify();
+  queue.start();
   // Splits only add triangles, collapses only remove them: the budget
   // follows a refinement and keeps its start through a coarsening.
   const long long start_triangles = mesh.n_triangles();
@@ -455,8 +380,8 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
   };
   long long pops = 0;
   int changes = 0;
-  while (!heap.empty() && pops++ < budget() && !interrupted(r)) {
-    const EdgeItem it = heap.pop();
+  while (!queue.empty() && pops++ < budget() && !interrupted(r)) {
+    const QueuedEdgeTaken it = queue.pop();
     const Vertex a(it.a), b(it.b);
     const Corner c = edge_corner(mesh, it.corner, a, b);
     if (!c.is_valid()) continue;
@@ -484,7 +409,7 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
     if (!follow_new_edges || !v.is_valid()) continue;
     for_ring_edges(mesh, v, [&](Vertex w, Corner e) {
       const double l = mesh_.length(v, w);
-      if (Edges::outside(sags, e, l, o)) heap.push({Edges::key(l), v.idx, w.idx, -1});
+      if (Edges::outside(sags, e, l, o)) queue.push(Edges::key(l), v.idx, w.idx, -1);
     });
   }
   return changes;
@@ -994,9 +919,6 @@ PassReport Remesher::step(PassKind kind, const PassReport* previous, bool measur
   }
   r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   for (int v : r.touched) touched_mark_[static_cast<std::size_t>(v)] = 0;
-  // The heap's storage is kept for the next pass unless it grew large (the
-  // first refinement passes): memory goes back while the mesh is big.
-  if (heap_.capacity() > 65536) std::vector<EdgeItem>().swap(heap_);
   if (!measure) {
     r.measured = false;
     r.vertices = mesh_.mesh().n_vertices();

@@ -14,6 +14,7 @@
 #pragma once
 #include <array>
 #include <chrono>
+#include <cstdint>
 #include <deque>
 #include <functional>
 #include <unordered_map>
@@ -21,6 +22,7 @@
 #include <vector>
 
 #include "metric/mesh_quality.h"
+#include "remesh/edge_queue.h"
 #include "remesh/operators.h"
 
 namespace anisurf::remesh {
@@ -246,11 +248,6 @@ struct Schedule {
 
 class Remesher {
  public:
-  struct EdgeItem {  // an edge waiting in the split or collapse heap (16 bytes)
-    float length;  // the order only (rounded): the pass measures the edge again when it pops
-    int a, b;
-    int corner;  // the corner naming a -> b when pushed (valid while it still does)
-  };
   // The adapted mesh must outlive the remesher.
   explicit Remesher(AdaptedMesh& mesh, const RemeshOptions& options = {});
 
@@ -412,7 +409,7 @@ class Remesher {
   bool has_last_ = false;
   std::function<bool()> interrupt_;
   long long interrupt_polls_ = 0;
-  std::vector<EdgeItem> heap_;  // split / collapse passes: the heap's storage
+  EdgeQueueStorage queue_;  // split / collapse passes
   std::vector<std::uint8_t> touched_mark_;  // per vertex slot: in the pass's touched list
   // Per corner slot, a bit: the edge it names (at its lower corner) was
   // found not to sag and neither end was stamped since (edge_sags).
