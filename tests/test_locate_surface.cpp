@@ -5,6 +5,8 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <filesystem>
 #include <initializer_list>
 #include <random>
 #include <string>
@@ -411,4 +413,74 @@ TEST_CASE("hints a dozen rings from the point: the walk across edges and fans la
   CHECK(tally.inconsistent == 0);
   CHECK(tally.certified >= 0.9 * tally.queries);
   CHECK(tally.steps >= tally.queries);  // the hints were far: the walk moved
+}
+
+namespace {
+
+// The clearance of every `stride`-th vertex against a brute-force search:
+// the distance to the nearest triangle not incident to it, less the rounding
+// margin at most.
+void check_clearances(const SurfaceMesh& m, const char* what, int stride = 1) {
+  const Locator loc(m);
+  const std::vector<int> tris = test::live_triangles(m);
+  const double diag = m.bbox().diagonal();
+  int checked = 0, wrong = 0;
+  for (Vertex v : m.vertices()) {
+    if (m.is_isolated(v) || v.idx % stride != 0) continue;
+    const Vec3 x = m.position(v);
+    double best = INFINITY;
+    for (int t : tris) {
+      bool incident = false;
+      for (int k = 0; k < 3; ++k) incident |= m.vertex(Triangle(t), k) == v;
+      if (incident) continue;
+      const auto p = test::triangle_points(m, t);
+      best = std::min(best, point_triangle_distance2(x, p[0], p[1], p[2]));
+    }
+    const double exact = std::sqrt(best), found = loc.clearance(v);
+    ++checked;
+    if (std::isinf(exact) ? !std::isinf(found) : !(found <= exact && found >= exact * (1 - 1e-8) - 1e-12 * diag))
+      ++wrong;
+  }
+  INFO(std::string(what) << ": " << wrong << " of " << checked << " vertices with a clearance off the brute force");
+  CHECK(checked > 0);
+  CHECK(wrong == 0);
+}
+
+}  // namespace
+
+TEST_CASE("locator: every vertex's clearance is the distance to its nearest triangle not incident to it") {
+  // A thin plate (the other sheet nearer than the vertex's own ring), a plate
+  // of long slivers (rings far larger than the tree's leaves), an open grid
+  // (boundary vertices with no triangle across their links), a lone
+  // triangle (no triangle to measure: an infinite clearance), and a shared
+  // mesh with thin parts.
+  check_clearances(test::box_surface({1, 1, 0.01}, 12, 12, 1), "thin plate");
+  check_clearances(test::box_surface({4, 0.05, 0.3}, 40, 1, 2), "slivers");
+  {
+    MeshData d;
+    const int n = 9;
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) d.vertices.push_back({i * 0.1, j * 0.1, 0.02 * std::sin(i + 2.0 * j)});
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const int a = j * (n + 1) + i, b = a + 1, c = a + n + 2, e = a + n + 1;
+        d.triangles.push_back({a, b, c});
+        d.triangles.push_back({a, c, e});
+      }
+    SurfaceMesh m;
+    build_mesh(d, m);
+    check_clearances(m, "open grid");
+  }
+  {
+    MeshData d;
+    d.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    d.triangles = {{0, 1, 2}};
+    SurfaceMesh m;
+    build_mesh(d, m);
+    check_clearances(m, "lone triangle");
+  }
+  if (const std::string path = test::shared_file("meshes/falcon.mesh"); std::filesystem::exists(path))
+    check_clearances(load_mesh(path), "falcon", 29);
+  else
+    MESSAGE("skipped falcon: ../shared is absent");
 }

@@ -61,6 +61,9 @@ class AabbTree {
   // box_d2(lo, hi) <= r2 (the caller filters the primitives themselves).
   template <class BoxD2, class Visit>
   void for_each_within(BoxD2&& box_d2, double r2, Visit&& visit) const;
+  // Calls visit(leaf) for every leaf node whose box passes box_d2(lo, hi) <= r2.
+  template <class BoxD2, class Visit>
+  void for_each_leaf_within(BoxD2&& box_d2, double r2, Visit&& visit) const;
 
  private:
   static constexpr int kStackSize = 128;  // > the depth bound enforced by build()
@@ -133,6 +136,13 @@ int AabbTree::nearest(BoxD2&& box_d2, PrimD2&& prim_d2, double& best_d2) const {
 
 template <class BoxD2, class Visit>
 void AabbTree::for_each_within(BoxD2&& box_d2, double r2, Visit&& visit) const {
+  for_each_leaf_within(box_d2, r2, [&](const Node& leaf) {
+    for (const int* p = leaf_begin(leaf); p != leaf_end(leaf); ++p) visit(*p);
+  });
+}
+
+template <class BoxD2, class Visit>
+void AabbTree::for_each_leaf_within(BoxD2&& box_d2, double r2, Visit&& visit) const {
   if (nodes_.empty()) return;
   int stack[kStackSize];
   int top = 0;
@@ -141,7 +151,7 @@ void AabbTree::for_each_within(BoxD2&& box_d2, double r2, Visit&& visit) const {
     const Node& n = nodes_[stack[--top]];
     if (box_d2(n.lower(), n.upper()) > r2) continue;
     if (n.is_leaf()) {
-      for (const int* p = leaf_begin(n); p != leaf_end(n); ++p) visit(*p);
+      visit(n);
     } else {
       stack[top++] = n.first + 1;
       stack[top++] = n.first;

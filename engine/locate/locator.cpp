@@ -90,6 +90,13 @@ struct Locator::Data {
 
   void build(const SurfaceMesh& m, const LocateOptions& o);
   void build_triangles();
+  void compute_vertex_clearances();
+  double across_link_bound2(int v, const Vec3& x) const;
+  double searched_clearance2(int v, const Vec3& x, double bound2) const;
+  bool incident(int t, int v) const {
+    const int* a = tv(t);
+    return a[0] == v || a[1] == v || a[2] == v;
+  }
   void build_features();
   void build_corners();
 };
@@ -163,23 +170,120 @@ void Locator::Data::build_triangles() {
     tree.build(boxes);
   }
 
-  // Clearance of each vertex: the distance to the nearest triangle not
-  // incident to it (vertices in parallel chunks: each one its own query).
+  compute_vertex_clearances();
+}
+
+// A first bound of v's clearance (squared): the distance to the nearest of
+// the triangles across the edges of v's link that are not incident to v (on
+// a smooth sheet, where the clearance is reached); +inf without one.
+double Locator::Data::across_link_bound2(int v, const Vec3& x) const {
+  const SurfaceMesh& m = *mesh;
+  double best = INFINITY;
+  for (int i = vt_first[v]; i < vt_first[v + 1]; ++i) {
+    const int t = vt[i];
+    const int* a = tv(t);
+    const int k = a[0] == v ? 0 : (a[1] == v ? 1 : 2);
+    const Corner across = m.opposite(SurfaceMesh::corner(Triangle(t), k));
+    if (!across.is_valid()) continue;
+    const int u = SurfaceMesh::triangle(across).idx;
+    if (incident(u, v)) continue;
+    best = std::min(best, tri_d2(x, u));
+  }
+  return best;
+}
+
+// A triangle is passed over by its bounding ball only when the ball lies
+// beyond the distance to beat by this factor: the rounding of the ball test
+// never passes over a triangle the exact distance would keep.
+constexpr double kBallSlack = 1 + 1e-9;
+
+// v's clearance (squared) from a tree search of its own: below `bound2`, the
+// nearest triangle not incident to v, else bound2.
+double Locator::Data::searched_clearance2(int v, const Vec3& x, double bound2) const {
+  double best = bound2;
+  tree.nearest([&](const Vec3& lo, const Vec3& hi) { return box_point_distance2(lo, hi, x); },
+               [&](int t, double nearest) -> double {
+                 if (incident(t, v)) return INFINITY;
+                 return ball_beyond(x, t, std::sqrt(nearest) * kBallSlack) ? INFINITY : tri_d2(x, t);
+               },
+               best);
+  return best;
+}
+
+// The clearance of every vertex: the distance to the nearest triangle not
+// incident to it (exact, as a search of its own would find it). Leaf by
+// leaf of the tree, in parallel chunks of leaves: each vertex goes with the
+// first leaf holding one of its triangles; the leaf's vertices take a first
+// bound from across their links, and one search gathers the leaves within
+// the largest of those bounds from the leaf's box (every triangle nearer a
+// vertex than its bound is in one of them). A vertex whose bound is far
+// larger than the leaf (or that has none) searches on its own.
+void Locator::Data::compute_vertex_clearances() {
+  const SurfaceMesh& m = *mesh;
   const int nv = m.vertex_capacity();
   vclear.assign(static_cast<std::size_t>(nv), 0.0);
-  run_chunks(nv, chunk_count(nv, 4096), [&](int, int begin, int end) {
-    for (int v = begin; v < end; ++v) {
-      if (vt_first[v] == vt_first[v + 1]) continue;
-      const Vec3 x = m.position(Vertex(v));
-      double best = INFINITY;
-      tree.nearest([&](const Vec3& lo, const Vec3& hi) { return box_point_distance2(lo, hi, x); },
-                   [&](int t, double) -> double {
-                     const int* a = tv(t);
-                     if (a[0] == v || a[1] == v || a[2] == v) return INFINITY;
-                     return tri_d2(x, t);
-                   },
-                   best);
-      vclear[v] = with_margin(std::sqrt(best), scale);
+  const std::vector<AabbTree::Node>& nodes = tree.nodes();
+  std::vector<int> leaves;
+  for (int i = 0; i < static_cast<int>(nodes.size()); ++i)
+    if (nodes[i].is_leaf()) leaves.push_back(i);
+  // The vertices of each leaf (compressed rows).
+  const int n_leaves = static_cast<int>(leaves.size());
+  std::vector<int> owned_first(static_cast<std::size_t>(n_leaves) + 1, 0), owned;
+  owned.reserve(static_cast<std::size_t>(m.n_vertices()));
+  {
+    std::vector<char> taken(static_cast<std::size_t>(nv), 0);
+    for (int l = 0; l < n_leaves; ++l) {
+      const AabbTree::Node& leaf = nodes[leaves[l]];
+      for (const int* t = tree.leaf_begin(leaf); t != tree.leaf_end(leaf); ++t)
+        for (int k = 0; k < 3; ++k) {
+          const int v = tv(*t)[k];
+          if (!taken[v]) taken[v] = 1, owned.push_back(v);
+        }
+      owned_first[l + 1] = static_cast<int>(owned.size());
+    }
+  }
+  run_chunks(n_leaves, chunk_count(n_leaves, 2048), [&](int, int begin, int end) {
+    std::vector<int> batch;
+    std::vector<const AabbTree::Node*> near;
+    std::vector<double> bound2;
+    for (int l = begin; l < end; ++l) {
+      const AabbTree::Node& leaf = nodes[leaves[l]];
+      const Vec3 lo = leaf.lower(), hi = leaf.upper();
+      const double far2 = 4 * norm2(hi - lo);
+      batch.clear();
+      bound2.clear();
+      double reach2 = 0;
+      for (int i = owned_first[l]; i < owned_first[l + 1]; ++i) {
+        const int v = owned[i];
+        const Vec3 x = m.position(Vertex(v));
+        const double b2 = across_link_bound2(v, x);
+        if (!(b2 <= far2)) {
+          vclear[v] = with_margin(std::sqrt(searched_clearance2(v, x, b2)), scale);
+          continue;
+        }
+        batch.push_back(v);
+        bound2.push_back(b2);
+        reach2 = std::max(reach2, b2);
+      }
+      if (batch.empty()) continue;
+      near.clear();
+      tree.for_each_leaf_within([&](const Vec3& a, const Vec3& b) { return box_box_distance2(lo, hi, a, b); }, reach2,
+                                [&](const AabbTree::Node& n) { near.push_back(&n); });
+      for (std::size_t i = 0; i < batch.size(); ++i) {
+        const int v = batch[i];
+        const Vec3 x = m.position(Vertex(v));
+        double best = bound2[i];
+        double reach = std::sqrt(best) * kBallSlack;
+        for (const AabbTree::Node* n : near) {
+          if (!(box_point_distance2(n->lower(), n->upper(), x) < best)) continue;
+          for (const int* t = tree.leaf_begin(*n); t != tree.leaf_end(*n); ++t) {
+            if (incident(*t, v) || ball_beyond(x, *t, reach)) continue;
+            const double d2 = tri_d2(x, *t);
+            if (d2 < best) best = d2, reach = std::sqrt(best) * kBallSlack;
+          }
+        }
+        vclear[v] = with_margin(std::sqrt(best), scale);
+      }
     }
   });
 }
