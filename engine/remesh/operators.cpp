@@ -644,14 +644,13 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
     }
   }
   // New edges across the surface stay on it (feature edges: the curve test).
-  for (Vertex n : mesh.ring_vertices(r)) {
-    if (n == k) continue;
-    const Corner e = find_edge_corner(mesh, r, n);
-    if (e.is_valid() && is_feature_edge(mesh, e)) continue;
-    if (sags_off_input(m, p.position, p.values.metric, p.normal, k, mesh.position(n), m.metric(n), m.surface_normal(n), n,
-                       false, o))
-      return Rejection::Deviation;
-  }
+  bool deviates = false;
+  for_ring_edges(mesh, r, [&](Vertex n, Corner e) {
+    if (deviates || n == k || is_feature_edge(mesh, e)) return;
+    deviates = sags_off_input(m, p.position, p.values.metric, p.normal, k, mesh.position(n), m.metric(n),
+                              m.surface_normal(n), n, false, o);
+  });
+  if (deviates) return Rejection::Deviation;
   for (const TriangleView& tv : new_triangles) {
     const Rejection why = check_surface_side(m, tv.x, tv.n, tv.h);
     if (why != Rejection::None) return why;

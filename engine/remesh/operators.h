@@ -12,6 +12,19 @@
 
 namespace anisurf::remesh {
 
+// f(w, e) for each neighbour w of v in the order of ring_vertices(v), e a
+// corner naming the edge between them (v -> w; w -> v for the neighbour that
+// closes the open fan of a boundary vertex).
+template <class F>
+void for_ring_edges(const SurfaceMesh& mesh, Vertex v, F&& f) {
+  Corner last;
+  for (Corner c : mesh.fan_corners(v)) {
+    f(mesh.vertex(SurfaceMesh::next(c)), SurfaceMesh::prev(c));
+    last = c;
+  }
+  if (last.is_valid() && mesh.is_boundary(v)) f(mesh.vertex(SurfaceMesh::prev(last)), SurfaceMesh::next(last));
+}
+
 // Why an operator was refused (the filters, in the order they are tried).
 enum class Rejection : int {
   None = 0,

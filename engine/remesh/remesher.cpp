@@ -100,18 +100,6 @@ struct CollapseEdges {
   }
 };
 
-// f(w, e) for each neighbour w of v in the order of ring_vertices(v), e a
-// corner naming the edge v -> w.
-template <class F>
-void for_ring_edges(const SurfaceMesh& mesh, Vertex v, F&& f) {
-  Corner last;
-  for (Corner c : mesh.fan_corners(v)) {
-    f(mesh.vertex(M::next(c)), M::prev(c));
-    last = c;
-  }
-  if (last.is_valid() && mesh.is_boundary(v)) f(mesh.vertex(M::prev(last)), M::next(last));
-}
-
 // The edges of the triangles around v that are opposite v.
 std::vector<std::array<int, 2>> link_edges(const SurfaceMesh& mesh, Vertex v) {
   std::vector<std::array<int, 2>> out;
