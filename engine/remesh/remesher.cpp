@@ -220,13 +220,13 @@ void Remesher::note_change(Vertex v) {
 
 const Remesher::Refusal* Remesher::remembered_refusal(RefusalMemo& memo, Vertex a, Vertex b) {
   const std::uint64_t key = edge_key(a, b);
-  auto found = memo.current.find(key);
-  if (found == memo.current.end()) {
-    const auto before = memo.previous.find(key);
-    if (before == memo.previous.end()) return nullptr;
-    found = memo.current.emplace(key, before->second).first;
+  Refusal* found = memo.current.find(key);
+  if (!found) {
+    const Refusal* before = memo.previous.find(key);
+    if (!before) return nullptr;
+    found = memo.current.insert_or_assign(key, *before);
   }
-  const std::uint64_t tick = found->second.tick;
+  const std::uint64_t tick = found->tick;
   const SurfaceMesh& mesh = mesh_.mesh();
   auto changed = [&](Vertex v) {
     const std::size_t i = static_cast<std::size_t>(v.idx);
@@ -236,10 +236,10 @@ const Remesher::Refusal* Remesher::remembered_refusal(RefusalMemo& memo, Vertex 
   for (Vertex end : {a, b})
     for (Vertex w : mesh.ring_vertices(end)) stale = stale || changed(w);
   if (stale) {
-    memo.current.erase(found);
+    memo.current.erase(key);
     return nullptr;
   }
-  return &found->second;
+  return found;
 }
 
 void Remesher::start_refusal_pass(RefusalMemo& memo) {
@@ -389,7 +389,7 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
     const auto plan = Edges::plan(mesh_, c, length, o);
     if (plan.why != Rejection::None) {
       refuse(r, Edges::kind, plan.why);
-      if (memo) memo->current[edge_key(mesh.edge_from(c), mesh.edge_to(c))] = {tick_, plan.why};
+      if (memo) memo->current.insert_or_assign(edge_key(mesh.edge_from(c), mesh.edge_to(c)), {tick_, plan.why});
       continue;
     }
     ++changes;

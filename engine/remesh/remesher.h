@@ -17,10 +17,10 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
-#include <unordered_map>
 #include <string_view>
 #include <vector>
 
+#include "core/flat_map64.h"
 #include "metric/mesh_quality.h"
 #include "remesh/edge_queue.h"
 #include "remesh/operators.h"
@@ -424,7 +424,7 @@ class Remesher {
     Rejection why = Rejection::None;
   };
   struct RefusalMemo {
-    std::unordered_map<std::uint64_t, Refusal> current, previous;  // this pass's refusals, the last pass's
+    FlatMap64<Refusal> current, previous;  // this pass's refusals, the last pass's (by edge_key)
   };
   void note_change(Vertex v);
   // The refusal remembered for edge (a, b) when it still holds (kept for the
