@@ -46,6 +46,17 @@ void check_one_pass(EdgeQueueStorage& storage, std::mt19937& rng, int n_initial,
   }
   q.start();
   CHECK(q.size() == ref.size());
+  // Takes one edge: the one taken (its corner names it) has the least rank
+  // and second vertex left (of edges equal in both, any may come first).
+  auto take_least = [&] {
+    REQUIRE_FALSE(q.empty());
+    const QueuedEdgeTaken got = q.pop();
+    const Ref& least = *ref.begin();
+    const auto it = ref.find(Ref{std::get<0>(least), got.b, got.corner});
+    REQUIRE(it != ref.end());
+    REQUIRE(std::get<1>(*it) == std::get<1>(least));
+    ref.erase(it);
+  };
   std::uniform_int_distribution<int> coin(0, 2);
   for (int step = 0; step < n_steps; ++step) {
     if (coin(rng) == 0 || ref.empty()) {
@@ -54,26 +65,11 @@ void check_one_pass(EdgeQueueStorage& storage, std::mt19937& rng, int n_initial,
       q.push(key, a, b, corner);
       ref.insert({Order::rank(key, a), b, corner++});
     } else {
-      REQUIRE_FALSE(q.empty());
-      const QueuedEdgeTaken got = q.pop();
-      const Ref& least = *ref.begin();
-      // The edge taken (its corner names it) has the least rank and second
-      // vertex left (of edges equal in both, any may come first).
-      const auto it = ref.find(Ref{std::get<0>(least), got.b, got.corner});
-      REQUIRE(it != ref.end());
-      REQUIRE(std::get<1>(*it) == std::get<1>(least));
-      ref.erase(it);
+      take_least();
     }
     REQUIRE(q.size() == ref.size());
   }
-  while (!ref.empty()) {  // the rest, in order
-    const QueuedEdgeTaken got = q.pop();
-    const Ref& least = *ref.begin();
-    const auto it = ref.find(Ref{std::get<0>(least), got.b, got.corner});
-    REQUIRE(it != ref.end());
-    REQUIRE(std::get<1>(*it) == std::get<1>(least));
-    ref.erase(it);
-  }
+  while (!ref.empty()) take_least();  // the rest, in order
   CHECK(q.empty());
 }
 
