@@ -90,6 +90,9 @@ class EdgeQueue {
   bool empty() const { return size_ == 0; }
   std::size_t size() const { return size_; }
 
+  // Room for n edges of the pass's start (an array grown by doubling would
+  // hold its old and new storage together at each step).
+  void reserve(std::size_t n) { s_.initial.reserve(n); }
   // Adds an edge of the pass's start: start() follows the last one, before
   // any push or pop.
   void append(float key, int a, int b, int corner) { s_.initial.push_back({Order::rank(key, a), b, corner}); }

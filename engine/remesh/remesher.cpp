@@ -350,9 +350,7 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
   RefusalMemo* memo = !memo_on_ || !options_.refusal_memo ? nullptr
                       : Edges::kind == PassKind::Split ? &split_refusals_
                                                        : &collapse_refusals_;
-  // Room for every edge at once: an array grown by doubling holds its old
-  // and new storage together at each step.
-  queue_.initial.reserve(static_cast<std::size_t>(mesh.n_triangles()) * 3 / 2 + 16);
+  queue.reserve(static_cast<std::size_t>(mesh.n_triangles()) * 3 / 2 + 16);  // every edge at once
   for (Corner c : mesh.edges()) {
     const Vertex a = mesh.edge_from(c), b = mesh.edge_to(c);
     const double l = mesh_.length(a, b);
