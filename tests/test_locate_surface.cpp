@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <initializer_list>
 #include <random>
+#include <span>
 #include <string>
 
 #include "io/mesh_io.h"
@@ -483,4 +484,48 @@ TEST_CASE("locator: every vertex's clearance is the distance to its nearest tria
     check_clearances(load_mesh(path), "falcon", 29);
   else
     MESSAGE("skipped falcon: ../shared is absent");
+}
+
+namespace {
+
+// within(x, tol) against the brute-force distance d of x to the mesh, for
+// tolerances below, at and above d, from hints near and far: the answer is
+// d <= tol (up to the rounding of d itself at tol = d), and a point the
+// descent passes clearly within tol needs no certification.
+void check_within(const SurfaceMesh& m, const char* what, std::uint64_t seed) {
+  CAPTURE(what);
+  Locator loc(m);
+  const test::PointSampler sample(m);
+  std::mt19937_64 rng(seed);
+  int wrong = 0, checked = 0;
+  for (int i = 0; i < 300; ++i) {
+    const auto np = sample(rng, 1e-4, 2e-2);
+    const double d = std::sqrt(test::brute_force_d2(m, sample.triangles(), np.x));
+    int hint = np.source;
+    for (int k = 0; k < static_cast<int>(rng() % 8); ++k) hint = nearby_triangle(m, hint, rng);
+    for (double f : {0.0, 0.25, 0.5, 0.9, 0.999, 1.001, 1.1, 2.0, 10.0}) {
+      const double tol = f * d;
+      ++checked;
+      if (loc.within(np.x, tol, std::span<const Hint>()) != (d <= tol)) ++wrong;
+      const Hint h{Triangle(hint)};
+      if (loc.within(np.x, tol, std::span<const Hint>(&h, 1)) != (d <= tol)) ++wrong;
+    }
+    // At tol = d the answer is the projection's own comparison.
+    const Hint h{Triangle(hint)};
+    const Location r = loc.project(np.x, h);
+    CHECK(loc.within(np.x, r.distance, std::span<const Hint>(&h, 1)) == (norm(r.point - np.x) <= r.distance));
+  }
+  INFO(checked << " queries");
+  CHECK(wrong == 0);
+}
+
+}  // namespace
+
+TEST_CASE("locator: within(x, tol) tells whether the mesh comes within tol of x, from any hint") {
+  check_within(test::box_surface({1, 1, 0.01}, 12, 12, 1), "thin plate", 41);
+  check_within(test::box_surface({4, 0.05, 0.3}, 40, 1, 2), "slivers", 43);
+  if (const std::string path = test::shared_file("meshes/bunny.off"); std::filesystem::exists(path))
+    check_within(load_mesh(path), "bunny", 47);
+  else
+    MESSAGE("skipped bunny: ../shared is absent");
 }

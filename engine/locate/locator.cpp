@@ -68,6 +68,17 @@ struct Locator::Data {
     return false;
   }
   bool live_triangle(int t) const { return t >= 0 && t < n_slots && tv(t)[0] >= 0; }
+  // The local index of t's vertex opposite the edge beyond which x's foot
+  // on t's plane lies (its most negative barycentric coordinate); -1 when
+  // the foot lies in t, or t is degenerate.
+  int foot_beyond_edge(const Vec3& x, int t) const {
+    const Vec3 &p0 = pos(t, 0), &p1 = pos(t, 1), &p2 = pos(t, 2);
+    const Vec3 n = cross(p1 - p0, p2 - p0);
+    const Vec3 a = p0 - x, b = p1 - x, c = p2 - x;
+    const double w0 = dot(n, cross(b, c)), w1 = dot(n, cross(c, a)), w2 = dot(n, cross(a, b));
+    if (!(std::min({w0, w1, w2}) < 0)) return -1;
+    return w0 <= w1 ? (w0 <= w2 ? 0 : 2) : (w1 <= w2 ? 1 : 2);
+  }
   // Triangle t's bounding ball is at least r from x: t is no closer than r.
   bool ball_beyond(const Vec3& x, int t, double r) const {
     const Tri& T = tri[static_cast<std::size_t>(t)];
@@ -433,7 +444,7 @@ Location Locator::project(const Vec3& x, std::span<const Hint> hints, Constraint
     constraint = Constraint::OnFeature;
   }
   if (constraint == Constraint::OnFeature && !d_->fe_corner.empty()) return project_feature(x, hints);
-  return project_free(x, hints);
+  return project_free(x, hints, -1);
 }
 
 Location Locator::free_result(const Vec3& x, int t, int steps, bool fallback) const {
@@ -466,7 +477,17 @@ int opposite_local_vertex(TriangleRegion r) {
 }
 }  // namespace
 
-Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
+bool Locator::within(const Vec3& x, double tol, std::span<const Hint> hints) {
+  // A triangle found at a squared distance below accept2 settles it: the
+  // closest one is at least as close, below tol by more than any rounding of
+  // the distance. Otherwise the search runs to its end and the closest
+  // point decides, as project() would.
+  const double accept2 = tol * tol * (1 - 1e-9);
+  const Location r = project_free(x, hints, accept2);
+  return r.is_valid() && norm(r.point - x) <= tol;
+}
+
+Location Locator::project_free(const Vec3& x, std::span<const Hint> hints, double accept2) {
   const Data& D = *d_;
   next_stamp();
   // K_0: the closest of the hinted triangles.
@@ -498,13 +519,42 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
     return free_result(x, found >= 0 ? found : start, steps, true);
   };
   if (K < 0) return global(-1, INFINITY, 0);
+  if (dK < accept2) return free_result(cK, K, 0, false);
+  int steps = 0;
+  // A within() query first walks straight towards x: from K across the edge
+  // beyond which x's foot on K's plane lies (the most negative barycentric
+  // coordinate), one triangle a step, to the triangle holding that foot,
+  // keeping the closest triangle met as K (every triangle it evaluates is
+  // marked, and none is closer than K: the descent below starts as from a
+  // hint). A point half an edge of T_1 away from its hints, many triangles
+  // of a fine T_G, is reached in a few steps of one distance each, where
+  // the descent evaluates whole fans. project() goes without it, so that its
+  // choice among equally close triangles stays the descent's.
+  if (accept2 > 0) {
+    for (int t = K; steps < D.options.max_steps;) {
+      const int across = D.foot_beyond_edge(x, t);
+      if (across < 0) break;
+      const Corner o = D.mesh->opposite(SurfaceMesh::corner(Triangle(t), across));
+      if (!o.is_valid()) break;
+      t = SurfaceMesh::triangle(o).idx;
+      if (!D.live_triangle(t) || tmark_[t] == stamp_) break;
+      tmark_[t] = stamp_;
+      ++steps;
+      const TriangleClosest c = D.tri_closest(x, t);
+      if (c.distance2 < dK) {
+        K = t;
+        dK = c.distance2;
+        cK = c;
+        if (dK < accept2) return free_result(cK, K, steps, false);
+      }
+    }
+  }
 
   // First across edges: while K's closest point to x lies inside one of its
   // edges, the triangle beyond that edge is the likeliest closer one; step
   // to it when it is closer (one distance a step, against the fans' dozen
   // below). A triangle evaluated and not taken is no closer than K, and K
   // only gets closer: every marked triangle stays at least as far as K.
-  int steps = 0;
   for (int edge_steps = 0; edge_steps < D.options.max_steps; ++edge_steps) {
     const int across = opposite_local_vertex(cK.region);
     if (across < 0) break;  // the face or a vertex: the fans decide
@@ -519,6 +569,7 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
     dK = c.distance2;
     cK = c;
     ++steps;
+    if (dK < accept2) return free_result(cK, K, steps, false);
   }
 
   // Section 4.2: move to the closest unmarked triangle of the neighbourhood
@@ -568,7 +619,9 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints) {
     K = best;
     dK = bd;
     cK = cbest;
-    if (++steps >= D.options.max_steps) return global(K, dK, steps);
+    ++steps;
+    if (dK < accept2) return free_result(cK, K, steps, false);
+    if (steps >= D.options.max_steps) return global(K, dK, steps);
   }
   return global(K, dK, steps);
 }

@@ -66,6 +66,11 @@ class Locator {
     return project(x, std::span<const Hint>(&hint, 1), constraint);
   }
 
+  // Whether the mesh comes within tol of x: the answer of
+  // norm(project(x, hints).point - x) <= tol, cut short by the first
+  // triangle the descent finds clearly within tol.
+  bool within(const Vec3& x, double tol, std::span<const Hint> hints = {});
+
   const SurfaceMesh& mesh() const;
   const LocateOptions& options() const;
   // Feature edges and fixed corners found in the mesh from the option tags.
@@ -79,7 +84,9 @@ class Locator {
 
  private:
   struct Data;
-  Location project_free(const Vec3& x, std::span<const Hint> hints);
+  // The free projection; returns the first triangle found at a squared
+  // distance below accept2 (< 0: none is, the closest point).
+  Location project_free(const Vec3& x, std::span<const Hint> hints, double accept2);
   Location project_feature(const Vec3& x, std::span<const Hint> hints);
   Location project_corner(const Vec3& x);
   Location free_result(const Vec3& x, int t, int steps, bool fallback) const;

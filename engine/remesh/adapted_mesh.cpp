@@ -204,17 +204,31 @@ Vec3 AdaptedMesh::placed_position(const Vec3& x, VertexKind kind, std::initializ
   return placement_at(x, kind, pr, h0, n).position;
 }
 
-Projection AdaptedMesh::project_from(const Vec3& x, VertexKind kind, std::span<const Vertex> near,
-                                     std::array<Hint, 8>& h0, std::size_t& n) {
+bool AdaptedMesh::placed_within(const Vec3& x, VertexKind kind, std::initializer_list<Vertex> near, double tol) {
+  if (kind != VertexKind::Free || !geometry_.projects_onto_input())
+    return norm(placed_position(x, kind, near) - x) <= tol;
   std::array<Hint, 8> hg{};
-  n = 0;
+  const std::size_t n = hints_of(std::span<const Vertex>(near.begin(), near.size()), hg, nullptr);
+  return geometry_.input_within(x, tol, std::span<const Hint>(hg.data(), n));
+}
+
+std::size_t AdaptedMesh::hints_of(std::span<const Vertex> near, std::array<Hint, 8>& hg,
+                                  std::array<Hint, 8>* h0) const {
+  std::size_t n = 0;
   for (Vertex v : near) {
     if (n == hg.size()) break;
     if (!hint_g_[v].is_valid()) continue;
     hg[n] = hint_g_[v];
-    h0[n] = hint_0(v);
+    if (h0) (*h0)[n] = hint_0(v);
     ++n;
   }
+  return n;
+}
+
+Projection AdaptedMesh::project_from(const Vec3& x, VertexKind kind, std::span<const Vertex> near,
+                                     std::array<Hint, 8>& h0, std::size_t& n) {
+  std::array<Hint, 8> hg{};
+  n = hints_of(near, hg, &h0);
   // A fixed vertex is not moved: it is only located (as a free point).
   const Constraint c = kind == VertexKind::Fixed ? Constraint::Free : constraint(kind);
   return geometry_.project(x, std::span<const Hint>(hg.data(), n), c);

@@ -115,6 +115,10 @@ class AdaptedMesh {
   // there (the point farther from the input than the least tolerance the
   // input triangle allows), which most points of a smooth surface are not.
   Vec3 placed_position(const Vec3& x, VertexKind kind, std::initializer_list<Vertex> near);
+  // norm(placed_position(x, kind, near) - x) <= tol; on a polyhedral
+  // surface a free point's place is the input's closest point, and the search
+  // stops at the first triangle clearly within tol (Locator::within).
+  bool placed_within(const Vec3& x, VertexKind kind, std::initializer_list<Vertex> near, double tol);
   // The placement of v as it is now (no search).
   Placement current(Vertex v) const;
   // The placement of vertex v at x when T_G's vertex of the same id lies
@@ -251,6 +255,9 @@ class AdaptedMesh {
   // and T_0 (h0).
   Projection project_from(const Vec3& x, VertexKind kind, std::span<const Vertex> near, std::array<Hint, 8>& h0,
                           std::size_t& n);
+  // The hints of `near` that have one in T_G (into hg) and their hints in
+  // T_0 (into h0, when given); returns how many.
+  std::size_t hints_of(std::span<const Vertex> near, std::array<Hint, 8>& hg, std::array<Hint, 8>* h0) const;
   // The values of place() at the projection pr of x (hints h0, n of them).
   Placement placement_at(const Vec3& x, VertexKind kind, const Projection& pr, const std::array<Hint, 8>& h0,
                          std::size_t n);

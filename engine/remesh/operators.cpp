@@ -1035,7 +1035,7 @@ bool sags_off_input(AdaptedMesh& m, const Vec3& pa, const SymTensor3& Ma, const 
   // The midpoint against the point a new vertex there would take (on the
   // smooth surface, within the input bound): the segment's chordal sag.
   const Vec3 mid = 0.5 * (pa + pb);
-  return norm(m.placed_position(mid, curve ? VertexKind::Curve : VertexKind::Free, {a, b}) - mid) > tol;
+  return !m.placed_within(mid, curve ? VertexKind::Curve : VertexKind::Free, {a, b}, tol);
 }
 
 bool edge_sags_off_input(AdaptedMesh& m, Vertex a, Vertex b, const OperatorOptions& o) {

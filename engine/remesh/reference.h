@@ -46,6 +46,13 @@ class GeometrySurface {
   Location closest_on_input(const Vec3& x, std::span<const Hint> hints) {
     return locator().project(x, hints, Constraint::Free);
   }
+  // Whether T_G's triangles come within tol of x (Locator::within).
+  bool input_within(const Vec3& x, double tol, std::span<const Hint> hints) {
+    return locator().within(x, tol, hints);
+  }
+  // Whether a free projection's point is the closest point of T_G's
+  // triangles (the surface is T_G itself).
+  virtual bool projects_onto_input() const { return false; }
   // The surface point at a location on T_G (a point of its triangles, as a
   // projection gives), with the unit normal there: a vertex of T_G is its own
   // surface point.
@@ -77,6 +84,7 @@ class PolyhedralSurface final : public GeometrySurface {
   Projection at(const Location& where) const override;
   const SurfaceMesh& mesh() const override { return locator_.mesh(); }
   std::string name() const override { return "polyhedral"; }
+  bool projects_onto_input() const override { return true; }
   double clearance(Vertex v) const override { return locator_.clearance(v); }
   std::unique_ptr<GeometrySurface> copy_for_thread() const override {
     return std::make_unique<PolyhedralSurface>(*this);
