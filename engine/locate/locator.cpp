@@ -521,36 +521,33 @@ Location Locator::project_free(const Vec3& x, std::span<const Hint> hints, doubl
   if (K < 0) return global(-1, INFINITY, 0);
   if (dK < accept2) return free_result(cK, K, 0, false);
   int steps = 0;
-  // A within() query first walks straight towards x: from K across the edge
-  // beyond which x's foot on K's plane lies (the most negative barycentric
+  // First a straight walk towards x: from K across the edge beyond which
+  // x's foot on the triangle's plane lies (its most negative barycentric
   // coordinate), one triangle a step, to the triangle holding that foot,
   // keeping the closest triangle met as K (every triangle it evaluates is
   // marked, and none is closer than K: the descent below starts as from a
   // hint). A point half an edge of T_1 away from its hints, many triangles
   // of a fine T_G, is reached in a few steps of one distance each, where
-  // the descent evaluates whole fans. project() goes without it, so that its
-  // choice among equally close triangles stays the descent's.
-  if (accept2 > 0) {
-    for (int t = K; steps < D.options.max_steps;) {
-      const int across = D.foot_beyond_edge(x, t);
-      if (across < 0) break;
-      const Corner o = D.mesh->opposite(SurfaceMesh::corner(Triangle(t), across));
-      if (!o.is_valid()) break;
-      t = SurfaceMesh::triangle(o).idx;
-      if (!D.live_triangle(t) || tmark_[t] == stamp_) break;
-      tmark_[t] = stamp_;
-      ++steps;
-      const TriangleClosest c = D.tri_closest(x, t);
-      if (c.distance2 < dK) {
-        K = t;
-        dK = c.distance2;
-        cK = c;
-        if (dK < accept2) return free_result(cK, K, steps, false);
-      }
+  // the descent evaluates whole fans.
+  for (int t = K; steps < D.options.max_steps;) {
+    const int across = D.foot_beyond_edge(x, t);
+    if (across < 0) break;
+    const Corner o = D.mesh->opposite(SurfaceMesh::corner(Triangle(t), across));
+    if (!o.is_valid()) break;
+    t = SurfaceMesh::triangle(o).idx;
+    if (!D.live_triangle(t) || tmark_[t] == stamp_) break;
+    tmark_[t] = stamp_;
+    ++steps;
+    const TriangleClosest c = D.tri_closest(x, t);
+    if (c.distance2 < dK) {
+      K = t;
+      dK = c.distance2;
+      cK = c;
+      if (dK < accept2) return free_result(cK, K, steps, false);
     }
   }
 
-  // First across edges: while K's closest point to x lies inside one of its
+  // Then across edges: while K's closest point to x lies inside one of its
   // edges, the triangle beyond that edge is the likeliest closer one; step
   // to it when it is closer (one distance a step, against the fans' dozen
   // below). A triangle evaluated and not taken is no closer than K, and K

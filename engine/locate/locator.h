@@ -55,7 +55,8 @@ class Locator {
 
   // Closest point of the mesh to x under a constraint, by local descent from
   // the best of the hints (section 4.2; 4.3: "one of the elements pointed by
-  // its vertices"), certified or completed by the tree. Invalid or stale hints
+  // its vertices"; a free point is first walked towards across the edges),
+  // certified or completed by the tree. Invalid or stale hints
   // are ignored; with none the tree answers directly. An OnFeature / Fixed
   // query on a mesh without feature edges / corners is answered as the next
   // weaker constraint (see Location::constraint).
