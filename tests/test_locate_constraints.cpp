@@ -190,7 +190,9 @@ TEST_CASE("vertex constraints of T_1 and propagation under constraints") {
   }
   CHECK(bad == 0);
   CHECK(st.seeds == 1);
-  CHECK(st.mean_steps() < 2);
+  // A neighbour's result is a few triangles away: a few moves (the walk
+  // towards a free point moves one triangle at a time).
+  CHECK(st.mean_steps() < 3);
 }
 
 TEST_CASE("interpolation of vertex fields at a located point reproduces linear fields") {
