@@ -1029,8 +1029,11 @@ bool sags_off_input(AdaptedMesh& m, const Vec3& pa, const SymTensor3& Ma, const 
   // A smooth surface turning by theta between the ends sags by about
   // len theta / 8 (a circle): far below the tolerance, no projection.
   if (norm2(na) > 0 && norm2(nb) > 0) {
-    const double theta = vector_angle(na, nb);
-    if (len * theta < 2 * tol) return false;
+    // theta = atan2(s, c) <= s / c where c > 0: the quotient settles most
+    // (less a margin for the rounding of the arc tangent and the products).
+    const double s = norm(cross(na, nb)), c = dot(na, nb);
+    if (c > 0 && len * s < 2 * tol * c * (1 - 1e-12)) return false;
+    if (len * std::atan2(s, c) < 2 * tol) return false;
   }
   // The midpoint against the point a new vertex there would take (on the
   // smooth surface, within the input bound): the segment's chordal sag.
