@@ -14,6 +14,7 @@
 #include <unordered_map>
 
 #include "geometry/features.h"
+#include "geometry/parallel_chunks.h"
 #include "io/mesh_io.h"
 #include "mesh/build.h"
 #include "mesh/operators.h"
@@ -345,6 +346,44 @@ TEST_CASE("remesh: the solution of T_0 is interpolated at every new and moved ve
     CHECK(g[v][0] == doctest::Approx(p.x + 2 * p.y - p.z).epsilon(1e-9));
     CHECK(g[v][1] == doctest::Approx(3 * p.z).epsilon(1e-9));
   }
+}
+
+TEST_CASE("remesh: measure() sums its blocks of triangles alike on any number of threads") {
+  // An icosphere of 81920 triangles (5 blocks of slots), its vertices moved
+  // off the sphere so that lengths and qualities differ from triangle to
+  // triangle: the same figures, bit for bit, on 1 and 3 threads, and the
+  // metric module's figures.
+  MeshData d = test::icosphere(6);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> jitter(0.98, 1.02);
+  for (Vec3& p : d.vertices) p = jitter(rng) * p;
+  SurfaceMesh input = test::build(d);
+  detect_features(input);
+  PolyhedralSurface geometry(input);
+  const MetricField metric(static_cast<std::size_t>(input.vertex_capacity()), isotropic_metric(0.02));
+  ControlSpace control(input, metric, true, MetricInterpolation::Linear, "sol0");
+  AdaptedMesh adapted(input, geometry, control, LengthFormula::LinearMetric, false);
+  struct Scope {
+    int saved = thread_limit().load();
+    ~Scope() { thread_limit() = saved; }
+  } scope;
+  thread_limit() = 1;
+  const PassReport one = Remesher(adapted).measure();
+  thread_limit() = 3;
+  const PassReport three = Remesher(adapted).measure();
+  CHECK(one.triangles == 81920);
+  CHECK(one.edges == three.edges);
+  CHECK(one.histogram == three.histogram);
+  CHECK(one.in_band_share == three.in_band_share);
+  CHECK(one.length_min == three.length_min);
+  CHECK(one.length_max == three.length_max);
+  CHECK(one.q_min == three.q_min);
+  CHECK(one.q_mean == three.q_mean);
+  const MeshQuality q = measure_mesh_quality(adapted.mesh(), metric);
+  CHECK(q.edges == one.edges);
+  CHECK(q.in_band_share == doctest::Approx(one.in_band_share));
+  CHECK(q.q_min == doctest::Approx(one.q_min));
+  CHECK(q.q_mean == doctest::Approx(one.q_mean));
 }
 
 TEST_CASE("remesh: pass reports agree with measure_mesh_quality and name live vertices") {

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "geometry/features.h"
+#include "geometry/parallel_chunks.h"
 #include "mesh/operators.h"
 #include "metric/quality.h"
 #include "metric/surface_metric.h"
@@ -830,49 +831,87 @@ int Remesher::valence_swaps(PassReport& r) {
   return n;
 }
 
-void Remesher::fill_state(PassReport& r) const {
+namespace {
+
+// The state of PassReport over a range of triangle slots, added up block by
+// block in slot order (the same sums on any number of threads).
+struct StateSums {
+  int edges = 0, in_band = 0;
+  std::array<int, kLengthBins.size()> histogram{};
+  double length_min = INFINITY, length_max = 0, q_min = 1, q_sum = 0;
+  void add(const StateSums& o) {
+    edges += o.edges;
+    in_band += o.in_band;
+    for (std::size_t b = 0; b < histogram.size(); ++b) histogram[b] += o.histogram[b];
+    length_min = std::min(length_min, o.length_min);
+    length_max = std::max(length_max, o.length_max);
+    q_min = std::min(q_min, o.q_min);
+    q_sum += o.q_sum;
+  }
+};
+
+constexpr int kStateBlock = 16384;  // triangle slots a block
+
+}  // namespace
+
+void Remesher::fill_state(PassReport& r, bool parallel) const {
   const SurfaceMesh& mesh = mesh_.mesh();
-  r.vertices = mesh.n_vertices();
-  r.triangles = mesh.n_triangles();
-  r.edges = 0;
-  r.histogram.fill(0);
-  r.length_min = INFINITY;
-  r.length_max = 0;
-  int in_band = 0;
-  r.q_min = 1;
-  double sum = 0;
   // One sweep over the triangles, the three lengths of each (every edge is
   // measured from both sides: no array of lengths, whose memory would add
   // to the peak of a large refinement); an edge is counted at its canonical
   // corner (the edge of corner k runs from vertex k + 1 to k + 2).
-  for (Triangle tr : mesh.triangles()) {
-    std::array<double, 3> len;
-    for (int k = 0; k < 3; ++k) {
-      const Corner c = M::corner(tr, k);
-      const double le = mesh_.length(mesh.edge_from(c), mesh.edge_to(c));
-      len[static_cast<std::size_t>(k)] = le;
-      const Corner o = mesh.opposite(c);
-      if (o.is_valid() && o.idx < c.idx) continue;  // counted at o
-      ++r.edges;
-      r.length_min = std::min(r.length_min, le);
-      r.length_max = std::max(r.length_max, le);
-      std::size_t bin = 0;
-      while (bin + 1 < kLengthBins.size() && le >= kLengthBins[bin]) ++bin;
-      ++r.histogram[bin];
-      if (le >= kLengthBins[2] && le <= kLengthBins[5]) ++in_band;
+  auto sweep = [&](int begin, int end, StateSums& s) {
+    for (int i = begin; i < end; ++i) {
+      const Triangle tr(i);
+      if (mesh.is_deleted(tr)) continue;
+      std::array<double, 3> len;
+      for (int k = 0; k < 3; ++k) {
+        const Corner c = M::corner(tr, k);
+        const double le = mesh_.length(mesh.edge_from(c), mesh.edge_to(c));
+        len[static_cast<std::size_t>(k)] = le;
+        const Corner o = mesh.opposite(c);
+        if (o.is_valid() && o.idx < c.idx) continue;  // counted at o
+        ++s.edges;
+        s.length_min = std::min(s.length_min, le);
+        s.length_max = std::max(s.length_max, le);
+        std::size_t bin = 0;
+        while (bin + 1 < kLengthBins.size() && le >= kLengthBins[bin]) ++bin;
+        ++s.histogram[bin];
+        if (le >= kLengthBins[2] && le <= kLengthBins[5]) ++s.in_band;
+      }
+      const double q = quality_from_lengths(len[2], len[0], len[1]);
+      s.q_min = std::min(s.q_min, q);
+      s.q_sum += q;
     }
-    const double q = quality_from_lengths(len[2], len[0], len[1]);
-    r.q_min = std::min(r.q_min, q);
-    sum += q;
-  }
-  r.in_band_share = r.edges ? static_cast<double>(in_band) / r.edges : 0.0;
-  r.q_mean = r.triangles ? sum / r.triangles : 0.0;
+  };
+  const int slots = mesh.triangle_capacity();
+  const int blocks = (slots + kStateBlock - 1) / kStateBlock;
+  std::vector<StateSums> block_sums(static_cast<std::size_t>(blocks));
+  auto sweep_blocks = [&](int, int first, int last) {
+    for (int b = first; b < last; ++b)
+      sweep(b * kStateBlock, std::min(slots, (b + 1) * kStateBlock), block_sums[static_cast<std::size_t>(b)]);
+  };
+  if (parallel)
+    run_chunks(blocks, chunk_count(blocks, 4), sweep_blocks);
+  else
+    sweep_blocks(0, 0, blocks);
+  StateSums total;
+  for (const StateSums& b : block_sums) total.add(b);
+  r.vertices = mesh.n_vertices();
+  r.triangles = mesh.n_triangles();
+  r.edges = total.edges;
+  r.histogram = total.histogram;
+  r.length_min = total.length_min;
+  r.length_max = total.length_max;
+  r.q_min = total.q_min;
+  r.in_band_share = r.edges ? static_cast<double>(total.in_band) / r.edges : 0.0;
+  r.q_mean = r.triangles ? total.q_sum / r.triangles : 0.0;
 }
 
 PassReport Remesher::measure() const {
   PassReport r;
   r.round = schedule_.round;
-  fill_state(r);
+  fill_state(r, true);
   return r;
 }
 
@@ -922,7 +961,7 @@ PassReport Remesher::step(PassKind kind, const PassReport* previous, bool measur
     r.q_min = previous->q_min;
     r.q_mean = previous->q_mean;
   } else {
-    fill_state(r);
+    fill_state(r, false);
   }
   return r;
 }

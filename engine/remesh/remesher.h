@@ -367,7 +367,9 @@ class Remesher {
   // valence_swap_gain of the old one. Returns the count.
   int valence_swaps(PassReport& r);
   void remember(PassKind kind, Vertex v);
-  void fill_state(PassReport& r) const;
+  // The mesh's state into r (counts, lengths, qualities), on the threads
+  // of parallel_chunks when `parallel` (the same figures).
+  void fill_state(PassReport& r, bool parallel) const;
   // Records v as touched by the pass and marks it and its neighbours for the
   // next swap and smoothing passes (which only visit marked vertices: the
   // first ones, and the final optimisation, visit all).
