@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "geometry/parallel_chunks.h"
 
 namespace anisurf {
 
@@ -100,21 +101,43 @@ FeatureReport detect_features(SurfaceMesh& mesh, const FeatureOptions& options) 
   const double ridge_angle = (options.ridge_angle_deg - options.ridge_tolerance_deg) * std::numbers::pi / 180.0;
   const double corner_angle = options.corner_angle_deg * std::numbers::pi / 180.0;
 
-  // 1. edges: file tags, dihedral angle, reference interfaces
+  // 1. edges: file tags, dihedral angle, reference interfaces. Each edge is
+  // judged on its own, in parallel chunks of corner slots (reading the mesh
+  // only), then tagged in edge order.
+  enum : std::uint8_t { kDropFileRidge = 1, kInterface = 2, kDetected = 4 };
+  const int nc = mesh.corner_capacity();
+  std::vector<std::uint8_t> verdict(static_cast<std::size_t>(nc), 0);
+  run_chunks(nc, chunk_count(nc, 65536), [&](int, int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      const Corner c(i);
+      if (!mesh.is_edge_corner(c)) continue;
+      std::uint8_t v = 0;
+      bool file_ridge = mesh.has_tag(c, kRidge);
+      if (!options.keep_file_tags && file_ridge) {
+        v |= kDropFileRidge;
+        file_ridge = false;
+      }
+      const Corner o = mesh.opposite(c);
+      if (o.is_valid() && !file_ridge) {
+        const Triangle tri = SurfaceMesh::triangle(c), other = SurfaceMesh::triangle(o);
+        if (options.reference_interfaces && mesh.triangle_ref(tri) != mesh.triangle_ref(other))
+          v |= kInterface;
+        else if (options.detect_ridges && has_reliable_normal(mesh, tri, options.degenerate_area_ratio) &&
+                 has_reliable_normal(mesh, other, options.degenerate_area_ratio) &&
+                 angle_between(mesh.triangle_normal(tri), mesh.triangle_normal(other)) >= ridge_angle)
+          v |= kDetected;
+      }
+      verdict[static_cast<std::size_t>(i)] = v;
+    }
+  });
   for (Corner c : mesh.edges()) {
-    const Corner o = mesh.opposite(c);
-    if (!options.keep_file_tags && mesh.has_tag(c, kRidge)) mesh.remove_edge_tag(c, kRidge);
-    if (!o.is_valid()) continue;
-    if (mesh.has_tag(c, kRidge)) continue;
-    const Triangle tri = SurfaceMesh::triangle(c), other = SurfaceMesh::triangle(o);
-    if (options.reference_interfaces && mesh.triangle_ref(tri) != mesh.triangle_ref(other)) {
+    const std::uint8_t v = verdict[static_cast<std::size_t>(c.idx)];
+    if (v & kDropFileRidge) mesh.remove_edge_tag(c, kRidge);
+    if (v & kInterface) {
       mesh.add_edge_tag(c, kRidge);
       ++rep.interface_edges;
-      continue;
     }
-    if (options.detect_ridges && has_reliable_normal(mesh, tri, options.degenerate_area_ratio) &&
-        has_reliable_normal(mesh, other, options.degenerate_area_ratio) &&
-        angle_between(mesh.triangle_normal(tri), mesh.triangle_normal(other)) >= ridge_angle) {
+    if (v & kDetected) {
       mesh.add_edge_tag(c, kRidge);
       ++rep.detected_ridges;
     }
@@ -171,20 +194,31 @@ FeatureReport detect_features(SurfaceMesh& mesh, const FeatureOptions& options) 
   for (const auto& e : options.add_ridges) mesh.add_edge_tag(edge_of(mesh, e, "add_ridges"), kRidge);
   for (const auto& e : options.remove_ridges) mesh.remove_edge_tag(edge_of(mesh, e, "remove_ridges"), kRidge);
 
-  // 3. vertices: kRidge on ridge vertices, corners
-  for (Vertex vh : mesh.vertices()) {
-    mesh.remove_vertex_tag(vh, kRidge);
-    if (!options.keep_file_tags) mesh.remove_vertex_tag(vh, kCorner);
-    if (mesh.is_isolated(vh)) continue;
-    const auto fe = feature_edges_at(mesh, vh);
-    bool on_ridge = false;
-    for (const auto& f : fe) on_ridge = on_ridge || mesh.has_tag(f.edge, kRidge);
-    if (on_ridge) mesh.add_vertex_tag(vh, kRidge);
-    if (fe.empty()) continue;
-    bool corner = fe.size() != 2;
-    if (!corner) corner = curve_turn(mesh, vh, fe[0], fe[1]) > corner_angle;
-    if (corner) mesh.add_vertex_tag(vh, kCorner);
-  }
+  // 3. vertices: kRidge on ridge vertices, corners (each vertex writes its
+  // own tags: parallel chunks of vertex slots). The vertices on feature
+  // edges are counted on the way (the edges' tags are final).
+  const int nv = mesh.vertex_capacity();
+  const int vertex_chunks = chunk_count(nv, 32768);
+  std::vector<int> feature_vertices(static_cast<std::size_t>(vertex_chunks), 0);
+  run_chunks(nv, vertex_chunks, [&](int chunk, int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      const Vertex vh(i);
+      if (mesh.is_deleted(vh)) continue;
+      mesh.remove_vertex_tag(vh, kRidge);
+      if (!options.keep_file_tags) mesh.remove_vertex_tag(vh, kCorner);
+      if (mesh.is_isolated(vh)) continue;
+      const auto fe = feature_edges_at(mesh, vh);
+      bool on_ridge = false;
+      for (const auto& f : fe) on_ridge = on_ridge || mesh.has_tag(f.edge, kRidge);
+      if (on_ridge) mesh.add_vertex_tag(vh, kRidge);
+      if (fe.empty()) continue;
+      ++feature_vertices[static_cast<std::size_t>(chunk)];
+      bool corner = fe.size() != 2;
+      if (!corner) corner = curve_turn(mesh, vh, fe[0], fe[1]) > corner_angle;
+      if (corner) mesh.add_vertex_tag(vh, kCorner);
+    }
+  });
+  for (int n : feature_vertices) rep.feature_vertices += n;
   for (int v : options.add_corners) {
     check_vertex(mesh, v, "add_corners");
     mesh.add_vertex_tag(Vertex(v), kCorner);
@@ -199,11 +233,8 @@ FeatureReport detect_features(SurfaceMesh& mesh, const FeatureOptions& options) 
     if (mesh.is_boundary_edge(c)) ++rep.boundary_edges;
     if (is_feature_edge(mesh, c)) ++rep.feature_edges;
   }
-  for (Vertex vh : mesh.vertices()) {
-    if (mesh.is_isolated(vh)) continue;
-    if (mesh.has_tag(vh, kCorner)) ++rep.corners;
-    if (!feature_edges_at(mesh, vh).empty()) ++rep.feature_vertices;
-  }
+  for (Vertex vh : mesh.vertices())
+    if (!mesh.is_isolated(vh) && mesh.has_tag(vh, kCorner)) ++rep.corners;
   return rep;
 }
 
