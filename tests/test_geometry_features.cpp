@@ -4,10 +4,12 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "core/error.h"
 #include "geometry/features.h"
 #include "geometry/normals.h"
+#include "geometry/parallel_chunks.h"
 #include "io/mesh_io.h"
 #include "test_geometry_util.h"
 #include "test_util.h"
@@ -227,4 +229,39 @@ TEST_CASE("normals: the file's NormalAtVertices are taken when asked") {
   CHECK(angle(f.normal(m.corner(w)), m.position(w)) < 0.05);
   o.use_file_normals = false;
   CHECK(compute_frames(m, o).from_file == 0);
+}
+
+TEST_CASE("features: the same tags and counts on one thread and on several") {
+  // An icosphere of 327680 triangles (3 chunks of edges and 3 of vertices
+  // on 3 threads), its vertices moved so that a share of its edges turn past
+  // the ridge angle, some of them meeting at corners.
+  MeshData d = test::icosphere(7);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> jitter(0.996, 1.004);
+  for (Vec3& p : d.vertices) p = jitter(rng) * p;
+  struct Scope {
+    int saved = thread_limit().load();
+    ~Scope() { thread_limit() = saved; }
+  } scope;
+  thread_limit() = 1;
+  SurfaceMesh one = test::build(d);
+  const FeatureReport r1 = detect_features(one);
+  thread_limit() = 3;
+  SurfaceMesh three = test::build(d);
+  const FeatureReport r3 = detect_features(three);
+  INFO("ridges " << r1.detected_ridges << ", corners " << r1.corners);
+  CHECK(r1.detected_ridges > 100);
+  CHECK(r1.corners > 0);
+  CHECK(r1.detected_ridges == r3.detected_ridges);
+  CHECK(r1.feature_edges == r3.feature_edges);
+  CHECK(r1.feature_vertices == r3.feature_vertices);
+  CHECK(r1.corners == r3.corners);
+  int differ = 0, ridge_vertices = 0;
+  for (int c = 0; c < one.corner_capacity(); ++c) differ += one.edge_tags(Corner(c)) != three.edge_tags(Corner(c));
+  for (int v = 0; v < one.vertex_capacity(); ++v) {
+    differ += one.vertex_tags(Vertex(v)) != three.vertex_tags(Vertex(v));
+    ridge_vertices += one.has_tag(Vertex(v), kRidge);
+  }
+  CHECK(differ == 0);
+  CHECK(ridge_vertices == r1.feature_vertices);  // no boundary: the feature vertices are the ridge vertices
 }
