@@ -11,6 +11,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "geometry/features.h"
+#include "geometry/parallel_chunks.h"
 #include "io/mesh_io.h"
 #include "mesh/stats.h"
 #include "metric/surface_metric.h"
@@ -253,6 +254,23 @@ TEST_CASE("adapt surface auto: polyhedral for a coarsening whose G1 surface woul
   MetricField local = iso(fine, 0.3);
   local[0] = isotropic_metric(0.01);
   CHECK(remesh::resolve_surface(SurfaceKind::Auto, fine, local) == SurfaceKind::G1);
+  // The edges judged in chunks on several threads (icosphere(6): 3 chunks
+  // of corner slots on 3 threads): one vertex's edges decide wherever they lie.
+  {
+    struct Scope {
+      int saved = thread_limit().load();
+      ~Scope() { thread_limit() = saved; }
+    } scope;
+    thread_limit() = 3;
+    const SurfaceMesh finer = test::build(test::icosphere(6));
+    CHECK(remesh::resolve_surface(SurfaceKind::Auto, finer, iso(finer, 0.3)) == SurfaceKind::Polyhedral);
+    for (int v : {0, finer.vertex_capacity() / 2, finer.vertex_capacity() - 1}) {
+      CAPTURE(v);
+      MetricField one = iso(finer, 0.3);
+      one[static_cast<std::size_t>(v)] = isotropic_metric(0.005);
+      CHECK(remesh::resolve_surface(SurfaceKind::Auto, finer, one) == SurfaceKind::G1);
+    }
+  }
   // A coarse sphere (edges of 0.5, facets turning by 0.4 rad) refined: G1.
   const SurfaceMesh coarse = test::build(test::icosphere(1));
   CHECK(remesh::resolve_surface(SurfaceKind::Auto, coarse, iso(coarse, 0.1)) == SurfaceKind::G1);

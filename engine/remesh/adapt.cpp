@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <limits>
 #include <vector>
 #include <string>
@@ -279,6 +280,26 @@ double edge_turn(const SurfaceMesh& tg, Corner c) {
              : dihedral_angle(tg, c);
 }
 
+// Whether pred(c) holds for every edge of tg (each at its canonical corner),
+// judged in parallel chunks of corner slots, each stopping at the first
+// edge that fails (a chunk's failure stops the others).
+template <class Pred>
+bool every_edge(const SurfaceMesh& tg, Pred pred) {
+  const int nc = tg.corner_capacity();
+  std::atomic<bool> failed{false};
+  run_chunks(nc, chunk_count(nc, 65536), [&](int, int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      if ((i & 1023) == 0 && failed.load(std::memory_order_relaxed)) return;
+      const Corner c(i);
+      if (tg.is_edge_corner(c) && !pred(c)) {
+        failed = true;
+        return;
+      }
+    }
+  });
+  return !failed.load();
+}
+
 }  // namespace
 
 std::optional<SurfaceKind> surface_before_metric(SurfaceKind kind, const SurfaceMesh& tg, double hausd,
@@ -287,10 +308,11 @@ std::optional<SurfaceKind> surface_before_metric(SurfaceKind kind, const Surface
   if (separate_geometry || tg.n_triangles() == 0) return SurfaceKind::G1;
   if (!(hausd > 0)) return std::nullopt;
   const double abs_bound = kFineGeometryHausd * hausd;
-  for (Corner c : tg.edges()) {
+  const bool fine = every_edge(tg, [&](Corner c) {
     const Vec3 e = tg.position(tg.edge_to(c)) - tg.position(tg.edge_from(c));
-    if (!(norm(e) * edge_turn(tg, c) / 8 <= abs_bound)) return SurfaceKind::G1;
-  }
+    return norm(e) * edge_turn(tg, c) / 8 <= abs_bound;
+  });
+  if (!fine) return SurfaceKind::G1;
   return std::nullopt;
 }
 
@@ -300,15 +322,14 @@ SurfaceKind resolve_surface(SurfaceKind kind, const SurfaceMesh& tg, const Metri
     return SurfaceKind::G1;
   const double abs_bound = hausd > 0 ? kFineGeometryHausd * hausd : std::numeric_limits<double>::infinity();
   const double unsplit = OperatorOptions{}.lmax;
-  for (Corner c : tg.edges()) {
+  const bool fine = every_edge(tg, [&](Corner c) {
     const Vertex a = tg.edge_from(c), b = tg.edge_to(c);
     const Vec3 e = tg.position(b) - tg.position(a);
     const double theta = edge_turn(tg, c);
     const double l = std::max(metric_length(metric[a.idx], e), metric_length(metric[b.idx], e));
-    if (!(l <= unsplit) || !(l * theta / 8 <= kFineGeometrySag) || !(norm(e) * theta / 8 <= abs_bound))
-      return SurfaceKind::G1;
-  }
-  return SurfaceKind::Polyhedral;
+    return l <= unsplit && l * theta / 8 <= kFineGeometrySag && norm(e) * theta / 8 <= abs_bound;
+  });
+  return fine ? SurfaceKind::Polyhedral : SurfaceKind::G1;
 }
 
 std::unique_ptr<ControlSpace> make_control(const SurfaceMesh& t0, MetricField metric, bool t0_is_geometry,
