@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <random>
 
+#include "geometry/parallel_chunks.h"
 #include "io/mesh_io.h"
 #include "locate/aabb_tree.h"
 #include "locate/closest_point.h"
@@ -180,6 +181,59 @@ TEST_CASE("AABB tree: nearest and range queries against brute force on random bo
       if (!boxes[i].empty() && box_point_distance2(boxes[i].lo, boxes[i].hi, x) <= r2) want.push_back(int(i));
     std::sort(got.begin(), got.end());
     CHECK(got == want);
+  }
+}
+
+TEST_CASE("AABB tree: the root's two subtrees built on two threads make the tree one thread makes") {
+  // 100000 boxes: the subtrees are built apart and appended. Node for node
+  // the same arrays on 1 and 2 threads; every inner node's box holds its
+  // children's, every primitive sits in one leaf, and nearest queries agree
+  // with brute force.
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> u(0, 0.05);
+  std::vector<BBox> boxes(100000);
+  for (auto& b : boxes) {
+    const Vec3 c = random_vec(rng, 10);
+    b.add(c);
+    b.add(c + Vec3(u(rng), u(rng), u(rng)));
+  }
+  struct Scope {
+    int saved = thread_limit().load();
+    ~Scope() { thread_limit() = saved; }
+  } scope;
+  thread_limit() = 1;
+  const AabbTree one(boxes);
+  thread_limit() = 2;
+  const AabbTree two(boxes);
+  REQUIRE(one.nodes().size() == two.nodes().size());
+  int differ = 0;
+  for (std::size_t i = 0; i < one.nodes().size(); ++i) {
+    const AabbTree::Node &a = one.nodes()[i], &b = two.nodes()[i];
+    differ += a.first != b.first || a.count != b.count || a.lower() != b.lower() || a.upper() != b.upper();
+    if (a.is_leaf()) differ += !std::equal(one.leaf_begin(a), one.leaf_end(a), two.leaf_begin(b));
+  }
+  CHECK(differ == 0);
+  std::vector<int> seen(boxes.size(), 0);
+  int outside = 0;
+  for (const auto& n : two.nodes()) {
+    if (n.is_leaf()) {
+      for (const int* p = two.leaf_begin(n); p != two.leaf_end(n); ++p) ++seen[static_cast<std::size_t>(*p)];
+      continue;
+    }
+    for (int c : {n.first, n.first + 1})
+      for (int k = 0; k < 3; ++k)
+        outside += two.nodes()[c].lower()[k] < n.lower()[k] || two.nodes()[c].upper()[k] > n.upper()[k];
+  }
+  CHECK(outside == 0);
+  CHECK(std::count(seen.begin(), seen.end(), 1) == static_cast<long>(boxes.size()));
+  for (int q = 0; q < 100; ++q) {
+    const Vec3 x = random_vec(rng, 12);
+    double best = INFINITY;
+    two.nearest([&](const Vec3& lo, const Vec3& hi) { return box_point_distance2(lo, hi, x); },
+                [&](int i, double) { return box_point_distance2(boxes[i].lo, boxes[i].hi, x); }, best);
+    double ref = INFINITY;
+    for (const BBox& b : boxes) ref = std::min(ref, box_point_distance2(b.lo, b.hi, x));
+    CHECK(best == ref);
   }
 }
 

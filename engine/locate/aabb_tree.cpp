@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 
+#include "geometry/parallel_chunks.h"
+
 namespace anisurf {
 
 namespace {
@@ -42,6 +44,136 @@ inline void add_point(BBox& a, const Vec3& p) {
   }
 }
 
+using Node = AabbTree::Node;
+struct Task {
+  int node, begin, end, depth;
+};
+// Subtrees of the root are built on two threads from this many primitives.
+constexpr std::size_t kParallelBuild = 65536;
+
+// One node of the build: its box, then a leaf, or the split of its
+// primitives (binned SAH, median where that cannot separate them) into two
+// children pushed onto `tasks`. `nodes` holds the node; `ids` the
+// primitives, partitioned in place (task's range only).
+void split_task(const Task& task, const std::vector<BBox>& boxes, const std::vector<std::array<double, 3>>& centre,
+                int* ids, std::vector<Node>& nodes, std::vector<Task>& tasks, int& depth) {
+  constexpr int kMaxLeafSize = AabbTree::kMaxLeafSize;
+  depth = std::max(depth, task.depth);
+  BBox box, cbox;
+  for (int i = task.begin; i < task.end; ++i) {
+    merge(box, boxes[ids[i]]);
+    const std::array<double, 3>& c = centre[ids[i]];
+    add_point(cbox, Vec3{c[0], c[1], c[2]});
+  }
+  for (int k = 0; k < 3; ++k) {
+    nodes[task.node].lo[k] = round_down(box.lo[k]);
+    nodes[task.node].hi[k] = round_up(box.hi[k]);
+  }
+  const int n = task.end - task.begin;
+  auto make_leaf = [&] {
+    nodes[task.node].first = task.begin;
+    nodes[task.node].count = n;
+  };
+  // Four primitives or fewer make a leaf: half the nodes of leaves of two
+  // (a node is 32 bytes) and as fast a search (the four tests cost what
+  // the two levels of boxes above them would).
+  if (n <= 4) {
+    make_leaf();
+    return;
+  }
+
+  // Choose the split: binned SAH over the three axes.
+  int axis = -1, split_bin = -1;
+  double best_cost = INFINITY;
+  const Vec3 extent = cbox.hi - cbox.lo;
+  if (task.depth < kSahDepthLimit) {
+    // The bins of the three axes in one sweep over the primitives.
+    std::array<std::array<BBox, kBins>, 3> bin_boxes{};
+    std::array<std::array<int, kBins>, 3> bin_counts{};
+    // The axes along which the centroids spread, their origins and scales.
+    std::array<int, 3> axes{};
+    std::array<double, 3> origin{}, scales{};
+    int n_axes = 0;
+    for (int a = 0; a < 3; ++a)
+      if (extent[a] > 0) {
+        axes[n_axes] = a;
+        origin[n_axes] = cbox.lo[a];
+        scales[n_axes++] = kBins / extent[a];
+      }
+    for (int i = task.begin; i < task.end; ++i) {
+      const int id = ids[i];
+      const std::array<double, 3>& c = centre[id];
+      for (int j = 0; j < n_axes; ++j) {
+        const int a = axes[j];
+        const int b = std::min(kBins - 1, static_cast<int>((c[a] - origin[j]) * scales[j]));
+        ++bin_counts[a][b];
+        merge(bin_boxes[a][b], boxes[id]);
+      }
+    }
+    for (int a = 0; a < 3; ++a) {
+      if (!(extent[a] > 0)) continue;
+      const std::array<BBox, kBins>& bin_box = bin_boxes[a];
+      const std::array<int, kBins>& bin_count = bin_counts[a];
+      // Sweep from the right for the right-hand areas, then from the left.
+      std::array<double, kBins> right_area{};
+      std::array<int, kBins> right_count{};
+      BBox acc;
+      int cnt = 0;
+      for (int b = kBins - 1; b > 0; --b) {
+        merge(acc, bin_box[b]);
+        cnt += bin_count[b];
+        right_area[b] = half_area(acc);
+        right_count[b] = cnt;
+      }
+      acc = BBox();
+      cnt = 0;
+      for (int b = 0; b < kBins - 1; ++b) {
+        merge(acc, bin_box[b]);
+        cnt += bin_count[b];
+        if (cnt == 0 || right_count[b + 1] == 0) continue;
+        const double cost = cnt * half_area(acc) + right_count[b + 1] * right_area[b + 1];
+        if (cost < best_cost) {
+          best_cost = cost;
+          axis = a;
+          split_bin = b;
+        }
+      }
+    }
+  }
+  const double leaf_cost = n * half_area(box);
+  if (n <= kMaxLeafSize && !(best_cost < leaf_cost)) {
+    make_leaf();
+    return;
+  }
+
+  int mid = -1;
+  if (axis >= 0) {
+    const double scale = kBins / extent[axis];
+    const double lo = cbox.lo[axis];
+    int* part = std::partition(ids + task.begin, ids + task.end, [&](int id) {
+      return std::min(kBins - 1, static_cast<int>((centre[id][axis] - lo) * scale)) <= split_bin;
+    });
+    mid = static_cast<int>(part - ids);
+  }
+  if (mid <= task.begin || mid >= task.end) {
+    // Median split on the longest centroid extent (or by position in the
+    // array when every centroid coincides).
+    int a = 0;
+    if (extent.y > extent[a]) a = 1;
+    if (extent.z > extent[a]) a = 2;
+    mid = task.begin + n / 2;
+    std::nth_element(ids + task.begin, ids + mid, ids + task.end,
+                     [&](int i, int j) { return centre[i][a] < centre[j][a]; });
+  }
+  const int left = static_cast<int>(nodes.size());
+  nodes.emplace_back();
+  nodes.emplace_back();
+  nodes[task.node].first = left;
+  nodes[task.node].count = 0;
+  tasks.push_back({left + 1, mid, task.end, task.depth + 1});
+  tasks.push_back({left, task.begin, mid, task.depth + 1});
+}
+
 }  // namespace
 
 void AabbTree::build(const std::vector<BBox>& boxes) {
@@ -59,129 +191,43 @@ void AabbTree::build(const std::vector<BBox>& boxes) {
   if (ids_.empty()) return;
   nodes_.reserve(2 * ids_.size());
   nodes_.emplace_back();
-
-  struct Task {
-    int node, begin, end, depth;
+  // The root's split here; its two subtrees (disjoint ranges of ids_) are
+  // built on two threads into arrays of their own, then appended, each
+  // node's first child moved by its array's offset: the same tree on any
+  // number of threads, nodes in the same order.
+  std::vector<Task> root_tasks;
+  split_task({0, 0, static_cast<int>(ids_.size()), 1}, boxes, centre, ids_.data(), nodes_, root_tasks, depth_);
+  if (root_tasks.empty()) return;  // the root is a leaf
+  std::array<std::vector<Node>, 2> sub;
+  std::array<int, 2> sub_depth{};
+  auto build_subtree = [&](int side) {
+    const Task& top = root_tasks[static_cast<std::size_t>(1 - side)];  // pushed right, then left
+    std::vector<Node>& nodes = sub[static_cast<std::size_t>(side)];
+    nodes.reserve(2 * static_cast<std::size_t>(top.end - top.begin));
+    nodes.emplace_back();
+    std::vector<Task> tasks{{0, top.begin, top.end, top.depth}};
+    while (!tasks.empty()) {
+      const Task task = tasks.back();
+      tasks.pop_back();
+      split_task(task, boxes, centre, ids_.data(), nodes, tasks, sub_depth[static_cast<std::size_t>(side)]);
+    }
   };
-  std::vector<Task> tasks{{0, 0, static_cast<int>(ids_.size()), 1}};
-  while (!tasks.empty()) {
-    const Task task = tasks.back();
-    tasks.pop_back();
-    depth_ = std::max(depth_, task.depth);
-    BBox box, cbox;
-    for (int i = task.begin; i < task.end; ++i) {
-      merge(box, boxes[ids_[i]]);
-      const std::array<double, 3>& c = centre[ids_[i]];
-      add_point(cbox, Vec3{c[0], c[1], c[2]});
-    }
-    for (int k = 0; k < 3; ++k) {
-      nodes_[task.node].lo[k] = round_down(box.lo[k]);
-      nodes_[task.node].hi[k] = round_up(box.hi[k]);
-    }
-    const int n = task.end - task.begin;
-    auto make_leaf = [&] {
-      nodes_[task.node].first = task.begin;
-      nodes_[task.node].count = n;
-    };
-    // Four primitives or fewer make a leaf: half the nodes of leaves of two
-    // (a node is 32 bytes) and as fast a search (the four tests cost what
-    // the two levels of boxes above them would).
-    if (n <= 4) {
-      make_leaf();
-      continue;
-    }
-
-    // Choose the split: binned SAH over the three axes.
-    int axis = -1, split_bin = -1;
-    double best_cost = INFINITY;
-    const Vec3 extent = cbox.hi - cbox.lo;
-    if (task.depth < kSahDepthLimit) {
-      // The bins of the three axes in one sweep over the primitives.
-      std::array<std::array<BBox, kBins>, 3> bin_boxes{};
-      std::array<std::array<int, kBins>, 3> bin_counts{};
-      // The axes along which the centroids spread, their origins and scales.
-      std::array<int, 3> axes{};
-      std::array<double, 3> origin{}, scales{};
-      int n_axes = 0;
-      for (int a = 0; a < 3; ++a)
-        if (extent[a] > 0) {
-          axes[n_axes] = a;
-          origin[n_axes] = cbox.lo[a];
-          scales[n_axes++] = kBins / extent[a];
-        }
-      for (int i = task.begin; i < task.end; ++i) {
-        const int id = ids_[i];
-        const std::array<double, 3>& c = centre[id];
-        for (int j = 0; j < n_axes; ++j) {
-          const int a = axes[j];
-          const int b = std::min(kBins - 1, static_cast<int>((c[a] - origin[j]) * scales[j]));
-          ++bin_counts[a][b];
-          merge(bin_boxes[a][b], boxes[id]);
-        }
-      }
-      for (int a = 0; a < 3; ++a) {
-        if (!(extent[a] > 0)) continue;
-        const std::array<BBox, kBins>& bin_box = bin_boxes[a];
-        const std::array<int, kBins>& bin_count = bin_counts[a];
-        // Sweep from the right for the right-hand areas, then from the left.
-        std::array<double, kBins> right_area{};
-        std::array<int, kBins> right_count{};
-        BBox acc;
-        int cnt = 0;
-        for (int b = kBins - 1; b > 0; --b) {
-          merge(acc, bin_box[b]);
-          cnt += bin_count[b];
-          right_area[b] = half_area(acc);
-          right_count[b] = cnt;
-        }
-        acc = BBox();
-        cnt = 0;
-        for (int b = 0; b < kBins - 1; ++b) {
-          merge(acc, bin_box[b]);
-          cnt += bin_count[b];
-          if (cnt == 0 || right_count[b + 1] == 0) continue;
-          const double cost = cnt * half_area(acc) + right_count[b + 1] * right_area[b + 1];
-          if (cost < best_cost) {
-            best_cost = cost;
-            axis = a;
-            split_bin = b;
-          }
-        }
-      }
-    }
-    const double leaf_cost = n * half_area(box);
-    if (n <= kMaxLeafSize && !(best_cost < leaf_cost)) {
-      make_leaf();
-      continue;
-    }
-
-    int mid = -1;
-    if (axis >= 0) {
-      const double scale = kBins / extent[axis];
-      const double lo = cbox.lo[axis];
-      int* part = std::partition(ids_.data() + task.begin, ids_.data() + task.end, [&](int id) {
-        return std::min(kBins - 1, static_cast<int>((centre[id][axis] - lo) * scale)) <= split_bin;
-      });
-      mid = static_cast<int>(part - ids_.data());
-    }
-    if (mid <= task.begin || mid >= task.end) {
-      // Median split on the longest centroid extent (or by position in the
-      // array when every centroid coincides).
-      int a = 0;
-      if (extent.y > extent[a]) a = 1;
-      if (extent.z > extent[a]) a = 2;
-      mid = task.begin + n / 2;
-      std::nth_element(ids_.data() + task.begin, ids_.data() + mid, ids_.data() + task.end,
-                       [&](int i, int j) { return centre[i][a] < centre[j][a]; });
-    }
-    const int left = static_cast<int>(nodes_.size());
-    nodes_.emplace_back();
-    nodes_.emplace_back();
-    nodes_[task.node].first = left;
-    nodes_[task.node].count = 0;
-    tasks.push_back({left + 1, mid, task.end, task.depth + 1});
-    tasks.push_back({left, task.begin, mid, task.depth + 1});
-  }
+  run_chunks(2, ids_.size() >= kParallelBuild && available_threads() > 1 ? 2 : 1, [&](int, int begin, int end) {
+    for (int side = begin; side < end; ++side) build_subtree(side);
+  });
+  // Local index i >= 1 of side k goes to offset[k] + i - 1; local 0 is node 1 + k.
+  const int offset_left = 3, offset_right = offset_left + static_cast<int>(sub[0].size()) - 1;
+  const std::array<int, 2> offset{offset_left, offset_right};
+  auto relocated = [&](Node n, int side) {
+    if (!n.is_leaf()) n.first = offset[static_cast<std::size_t>(side)] + n.first - 1;
+    return n;
+  };
+  nodes_[1] = relocated(sub[0][0], 0);
+  nodes_[2] = relocated(sub[1][0], 1);
+  for (int side = 0; side < 2; ++side)
+    for (std::size_t i = 1; i < sub[static_cast<std::size_t>(side)].size(); ++i)
+      nodes_.push_back(relocated(sub[static_cast<std::size_t>(side)][i], side));
+  depth_ = std::max({depth_, sub_depth[0], sub_depth[1]});
   // Reserved for the worst case (2 per primitive): the capacity never
   // written is address space, not memory, and a tight copy would briefly
   // hold the nodes twice.
