@@ -191,43 +191,45 @@ void AabbTree::build(const std::vector<BBox>& boxes) {
   if (ids_.empty()) return;
   nodes_.reserve(2 * ids_.size());
   nodes_.emplace_back();
-  // The root's split here; its two subtrees (disjoint ranges of ids_) are
-  // built on two threads into arrays of their own, then appended, each
-  // node's first child moved by its array's offset: the same tree on any
-  // number of threads, nodes in the same order.
+  // The root's split here; its two subtrees (disjoint ranges of ids_) on
+  // two threads: the left one into nodes_ as a serial build would, the
+  // right one into an array of its own, appended after with its nodes' first
+  // child moved by the offset: the same tree on any number of threads, nodes
+  // in the same order.
   std::vector<Task> root_tasks;
   split_task({0, 0, static_cast<int>(ids_.size()), 1}, boxes, centre, ids_.data(), nodes_, root_tasks, depth_);
   if (root_tasks.empty()) return;  // the root is a leaf
-  std::array<std::vector<Node>, 2> sub;
-  std::array<int, 2> sub_depth{};
-  auto build_subtree = [&](int side) {
-    const Task& top = root_tasks[static_cast<std::size_t>(1 - side)];  // pushed right, then left
-    std::vector<Node>& nodes = sub[static_cast<std::size_t>(side)];
-    nodes.reserve(2 * static_cast<std::size_t>(top.end - top.begin));
-    nodes.emplace_back();
-    std::vector<Task> tasks{{0, top.begin, top.end, top.depth}};
+  const Task left_top = root_tasks[1], right_top = root_tasks[0];  // pushed right, then left
+  std::vector<Node> right;
+  int right_depth = 0;
+  auto build_from = [&](Task top, std::vector<Node>& nodes, int& depth) {
+    std::vector<Task> tasks{top};
     while (!tasks.empty()) {
       const Task task = tasks.back();
       tasks.pop_back();
-      split_task(task, boxes, centre, ids_.data(), nodes, tasks, sub_depth[static_cast<std::size_t>(side)]);
+      split_task(task, boxes, centre, ids_.data(), nodes, tasks, depth);
     }
   };
   run_chunks(2, ids_.size() >= kParallelBuild && available_threads() > 1 ? 2 : 1, [&](int, int begin, int end) {
-    for (int side = begin; side < end; ++side) build_subtree(side);
+    for (int side = begin; side < end; ++side) {
+      if (side == 0) {
+        build_from(left_top, nodes_, depth_);  // into the capacity reserved: no reallocation
+      } else {
+        right.reserve(2 * static_cast<std::size_t>(right_top.end - right_top.begin));
+        right.emplace_back();
+        build_from({0, right_top.begin, right_top.end, right_top.depth}, right, right_depth);
+      }
+    }
   });
-  // Local index i >= 1 of side k goes to offset[k] + i - 1; local 0 is node 1 + k.
-  const int offset_left = 3, offset_right = offset_left + static_cast<int>(sub[0].size()) - 1;
-  const std::array<int, 2> offset{offset_left, offset_right};
-  auto relocated = [&](Node n, int side) {
-    if (!n.is_leaf()) n.first = offset[static_cast<std::size_t>(side)] + n.first - 1;
+  // The right subtree's local node i >= 1 goes to offset + i - 1, its root to right_top.node.
+  const int offset = static_cast<int>(nodes_.size());
+  auto relocated = [&](Node n) {
+    if (!n.is_leaf()) n.first = offset + n.first - 1;
     return n;
   };
-  nodes_[1] = relocated(sub[0][0], 0);
-  nodes_[2] = relocated(sub[1][0], 1);
-  for (int side = 0; side < 2; ++side)
-    for (std::size_t i = 1; i < sub[static_cast<std::size_t>(side)].size(); ++i)
-      nodes_.push_back(relocated(sub[static_cast<std::size_t>(side)][i], side));
-  depth_ = std::max({depth_, sub_depth[0], sub_depth[1]});
+  nodes_[static_cast<std::size_t>(right_top.node)] = relocated(right[0]);
+  for (std::size_t i = 1; i < right.size(); ++i) nodes_.push_back(relocated(right[i]));
+  depth_ = std::max(depth_, right_depth);
   // Reserved for the worst case (2 per primitive): the capacity never
   // written is address space, not memory, and a tight copy would briefly
   // hold the nodes twice.
