@@ -386,6 +386,47 @@ TEST_CASE("remesh: measure() sums its blocks of triangles alike on any number of
   CHECK(q.q_mean == doctest::Approx(one.q_mean));
 }
 
+TEST_CASE("adapted mesh: T_G's rough triangles are those whose fans turn past 60 degrees (the cone test agrees)") {
+  // A sphere whose vertices are moved in and out at random: fans of every
+  // spread, some with two triangles more than 60 degrees apart, most not.
+  // A triangle is rough when, at one of its vertices, another triangle of
+  // the fan turns more than 60 degrees from it (or the vertex is on a
+  // feature or near another sheet): the cone shortcut must not change that.
+  MeshData d = test::icosphere(4);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> radius(0.975, 1.025);
+  for (Vec3& p : d.vertices) p = radius(rng) * p;
+  SurfaceMesh input = test::build(d);
+  FeatureOptions no_ridges;
+  no_ridges.detect_ridges = false;
+  detect_features(input, no_ridges);
+  PolyhedralSurface geometry(input);
+  const MetricField metric(static_cast<std::size_t>(input.vertex_capacity()), isotropic_metric(0.05));
+  ControlSpace control(input, metric, true, MetricInterpolation::Linear, "sol0");
+  const AdaptedMesh adapted(input, geometry, control, LengthFormula::LinearMetric, false);
+  std::vector<Vec3> unit(static_cast<std::size_t>(input.triangle_capacity()));
+  for (Triangle t : input.triangles()) unit[static_cast<std::size_t>(t.idx)] = normalized(input.triangle_normal(t));
+  int rough = 0, wrong = 0;
+  for (Triangle t : input.triangles()) {
+    bool expected = false;
+    for (int k = 0; k < 3; ++k) {
+      const Vertex v = input.vertex(t, k);
+      double longest = 0;
+      for (Vertex w : input.ring_vertices(v)) longest = std::max(longest, norm(input.position(w) - input.position(v)));
+      expected = expected || geometry.clearance(v) < 0.25 * longest;
+      for (Corner b : input.fan_corners(v))
+        expected = expected || dot(unit[static_cast<std::size_t>(t.idx)],
+                                   unit[static_cast<std::size_t>(SurfaceMesh::triangle(b).idx)]) < 0.5;
+    }
+    rough += expected;
+    wrong += adapted.near_feature(Hint{t}) != expected;
+  }
+  INFO(rough << " rough of " << input.n_triangles());
+  CHECK(rough > 50);
+  CHECK(rough < input.n_triangles() / 2);
+  CHECK(wrong == 0);
+}
+
 TEST_CASE("remesh: pass reports agree with measure_mesh_quality and name live vertices") {
   ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
   ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");

@@ -444,7 +444,8 @@ bool AdaptedMesh::near_feature(const Hint& h) const {
 void AdaptedMesh::mark_rough_triangles() {
   const SurfaceMesh& g = geometry_.mesh();
   auto rough = std::make_shared<std::vector<std::uint8_t>>(static_cast<std::size_t>(g.triangle_capacity()), 0);
-  constexpr double kFoldCosine = 0.5;  // 60 degrees
+  constexpr double kFoldCosine = 0.5;           // 60 degrees
+  constexpr double kConeCosine = 0.8668967489;  // cos 29.9 degrees
   const int nt = g.triangle_capacity(), nv = g.vertex_capacity();
   std::vector<Vec3> unit(static_cast<std::size_t>(nt));
   run_chunks(nt, chunk_count(nt, 16384), [&](int, int begin, int end) {
@@ -468,11 +469,22 @@ void AdaptedMesh::mark_rough_triangles() {
       const bool rough_vertex = (g.vertex_tags(v) & (kRidge | kBoundary | kCorner | kRequired)) ||
                                 geometry_.clearance(v) < 0.25 * longest;
       const FanCornerRange fan = g.fan_corners(v);
+      // Every normal of the fan within 29.9 degrees of their mean: any two
+      // within 59.8 degrees of each other, none turns past 60 (no pair to test).
+      bool within_cone = !rough_vertex;
+      if (within_cone) {
+        Vec3 mean;
+        for (Corner a : fan) mean += unit[static_cast<std::size_t>(SurfaceMesh::triangle(a).idx)];
+        const Vec3 axis = normalized(mean);
+        for (Corner a : fan)
+          within_cone = within_cone && dot(unit[static_cast<std::size_t>(SurfaceMesh::triangle(a).idx)], axis) >= kConeCosine;
+      }
       for (Corner a : fan) {
         const auto ta = static_cast<std::size_t>(SurfaceMesh::triangle(a).idx);
         bool r = rough_vertex;
-        for (Corner b : fan)
-          r = r || dot(unit[ta], unit[static_cast<std::size_t>(SurfaceMesh::triangle(b).idx)]) < kFoldCosine;
+        if (!within_cone)
+          for (Corner b : fan)
+            r = r || dot(unit[ta], unit[static_cast<std::size_t>(SurfaceMesh::triangle(b).idx)]) < kFoldCosine;
         rough_corner[static_cast<std::size_t>(a.idx)] = r ? 1 : 0;
       }
     }
