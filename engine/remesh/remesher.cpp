@@ -1025,7 +1025,7 @@ PassReport Remesher::advance_schedule() {
     case Schedule::Phase::Done: throw std::logic_error("Remesher::advance: the schedule is done");
     case Schedule::Phase::Initial:
       s.phase = Schedule::Phase::Round;
-      if (options_.initial_swaps) return record_state(step(PassKind::Swap, previous(), true));
+      if (options_.initial_swaps) return record_state(step(PassKind::Swap, previous(), options_.measure_every_pass));
       break;
     case Schedule::Phase::Final:
       s.phase = Schedule::Phase::Done;
