@@ -257,10 +257,7 @@ TEST_CASE("adapt surface auto: polyhedral for a coarsening whose G1 surface woul
   // The edges judged in chunks on several threads (icosphere(6): 3 chunks
   // of corner slots on 3 threads): one vertex's edges decide wherever they lie.
   {
-    struct Scope {
-      int saved = thread_limit().load();
-      ~Scope() { thread_limit() = saved; }
-    } scope;
+    const test::ThreadLimitScope scope(thread_limit().load());
     thread_limit() = 3;
     const SurfaceMesh finer = test::build(test::icosphere(6));
     CHECK(remesh::resolve_surface(SurfaceKind::Auto, finer, iso(finer, 0.3)) == SurfaceKind::Polyhedral);

@@ -235,14 +235,8 @@ TEST_CASE("features: the same tags and counts on one thread and on several") {
   // An icosphere of 327680 triangles (3 chunks of edges and 3 of vertices
   // on 3 threads), its vertices moved so that a share of its edges turn past
   // the ridge angle, some of them meeting at corners.
-  MeshData d = test::icosphere(7);
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> jitter(0.996, 1.004);
-  for (Vec3& p : d.vertices) p = jitter(rng) * p;
-  struct Scope {
-    int saved = thread_limit().load();
-    ~Scope() { thread_limit() = saved; }
-  } scope;
+  const MeshData d = test::jittered_icosphere(7, 0.996, 1.004, 5);
+  const test::ThreadLimitScope scope(thread_limit().load());
   thread_limit() = 1;
   SurfaceMesh one = test::build(d);
   const FeatureReport r1 = detect_features(one);

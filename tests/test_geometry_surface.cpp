@@ -380,14 +380,8 @@ TEST_CASE("surface: built on one thread or on several, every patch is bitwise th
   // edges (each edge moves only its own points): the chunks must not change
   // a bit. An icosphere of 30720 edges (4 chunks), its vertices moved off the
   // sphere so that the corrections differ from edge to edge.
-  MeshData d = test::icosphere(5);
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> jitter(0.97, 1.03);
-  for (Vec3& p : d.vertices) p = jitter(rng) * p;
-  struct Scope {
-    int saved = thread_limit().load();
-    ~Scope() { thread_limit() = saved; }
-  } scope;
+  const MeshData d = test::jittered_icosphere(5, 0.97, 1.03, 7);
+  const test::ThreadLimitScope scope(thread_limit().load());
   thread_limit() = 1;
   const Built one = reconstruct(test::build(d));
   thread_limit() = 3;

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <random>
 #include <utility>
 
 #include "geometry/bezier_surface.h"
@@ -44,6 +45,16 @@ inline MeshData icosphere(int levels) {
     }
     d.triangles.swap(next);
   }
+  return d;
+}
+
+// icosphere(levels) with each vertex moved along its radius by a factor
+// drawn uniformly from [lo, hi] (std::mt19937 seeded with `seed`).
+inline MeshData jittered_icosphere(int levels, double lo, double hi, unsigned seed) {
+  MeshData d = icosphere(levels);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> factor(lo, hi);
+  for (Vec3& p : d.vertices) p = factor(rng) * p;
   return d;
 }
 

@@ -130,15 +130,25 @@ TEST_CASE("segment and triangle distances against sampling") {
   CHECK(segment_triangle_distance2({0.2, 0.2, 1}, {0.2, 0.2, -1}, s[0], s[1], s[2]) == 0);
 }
 
-TEST_CASE("AABB tree: nearest and range queries against brute force on random boxes") {
-  std::mt19937_64 rng(4);
-  std::uniform_real_distribution<double> u(0, 1);
-  std::vector<BBox> boxes(3000);
+namespace {
+
+// n boxes with a corner in [-10, 10]^3 (random_vec) and sides up to `side`.
+std::vector<BBox> random_boxes(std::mt19937_64& rng, int n, double side) {
+  std::uniform_real_distribution<double> u(0, side);
+  std::vector<BBox> boxes(static_cast<std::size_t>(n));
   for (auto& b : boxes) {
     const Vec3 c = random_vec(rng, 10);
     b.add(c);
     b.add(c + Vec3(u(rng), u(rng), u(rng)));
   }
+  return boxes;
+}
+
+}  // namespace
+
+TEST_CASE("AABB tree: nearest and range queries against brute force on random boxes") {
+  std::mt19937_64 rng(4);
+  std::vector<BBox> boxes = random_boxes(rng, 3000, 1.0);
   boxes[17] = BBox();  // a deleted slot
   AabbTree tree(boxes);
   CHECK(tree.n_primitives() == 2999);
@@ -190,17 +200,8 @@ TEST_CASE("AABB tree: the root's two subtrees built on two threads make the tree
   // children's, every primitive sits in one leaf, and nearest queries agree
   // with brute force.
   std::mt19937_64 rng(8);
-  std::uniform_real_distribution<double> u(0, 0.05);
-  std::vector<BBox> boxes(100000);
-  for (auto& b : boxes) {
-    const Vec3 c = random_vec(rng, 10);
-    b.add(c);
-    b.add(c + Vec3(u(rng), u(rng), u(rng)));
-  }
-  struct Scope {
-    int saved = thread_limit().load();
-    ~Scope() { thread_limit() = saved; }
-  } scope;
+  const std::vector<BBox> boxes = random_boxes(rng, 100000, 0.05);
+  const test::ThreadLimitScope scope(thread_limit().load());
   thread_limit() = 1;
   const AabbTree one(boxes);
   thread_limit() = 2;

@@ -62,6 +62,25 @@ std::unique_ptr<Setup> make_setup(const std::string& mesh_path, const std::strin
   return s;
 }
 
+// An icosphere of `levels` whose vertices are moved in and out by up to
+// `jitter` of the radius (seeded), as T_G = T_0 = T_1 on its polyhedral
+// surface with an isotropic metric of size h.
+struct JitteredSphere {
+  SurfaceMesh input;
+  MetricField metric;
+  std::unique_ptr<PolyhedralSurface> geometry;
+  std::unique_ptr<ControlSpace> control;
+  std::unique_ptr<AdaptedMesh> adapted;
+  JitteredSphere(int levels, double jitter, unsigned seed, double h, const FeatureOptions& features) {
+    input = test::build(test::jittered_icosphere(levels, 1 - jitter, 1 + jitter, seed));
+    detect_features(input, features);
+    geometry = std::make_unique<PolyhedralSurface>(input);
+    metric.assign(static_cast<std::size_t>(input.vertex_capacity()), isotropic_metric(h));
+    control = std::make_unique<ControlSpace>(input, metric, true, MetricInterpolation::Linear, "sol0");
+    adapted = std::make_unique<AdaptedMesh>(input, *geometry, *control, LengthFormula::LinearMetric, false);
+  }
+};
+
 int count_tag(const SurfaceMesh& m, Tag t) {
   int n = 0;
   for (int i = 0; i < m.vertex_capacity(); ++i)
@@ -353,20 +372,10 @@ TEST_CASE("remesh: measure() sums its blocks of triangles alike on any number of
   // off the sphere so that lengths and qualities differ from triangle to
   // triangle: the same figures, bit for bit, on 1 and 3 threads, and the
   // metric module's figures.
-  MeshData d = test::icosphere(6);
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> jitter(0.98, 1.02);
-  for (Vec3& p : d.vertices) p = jitter(rng) * p;
-  SurfaceMesh input = test::build(d);
-  detect_features(input);
-  PolyhedralSurface geometry(input);
-  const MetricField metric(static_cast<std::size_t>(input.vertex_capacity()), isotropic_metric(0.02));
-  ControlSpace control(input, metric, true, MetricInterpolation::Linear, "sol0");
-  AdaptedMesh adapted(input, geometry, control, LengthFormula::LinearMetric, false);
-  struct Scope {
-    int saved = thread_limit().load();
-    ~Scope() { thread_limit() = saved; }
-  } scope;
+  const JitteredSphere s(6, 0.02, 11, 0.02, FeatureOptions{});
+  const MetricField& metric = s.metric;
+  AdaptedMesh& adapted = *s.adapted;
+  const test::ThreadLimitScope scope(thread_limit().load());
   thread_limit() = 1;
   const PassReport one = Remesher(adapted).measure();
   thread_limit() = 3;
@@ -392,18 +401,12 @@ TEST_CASE("adapted mesh: T_G's rough triangles are those whose fans turn past 60
   // A triangle is rough when, at one of its vertices, another triangle of
   // the fan turns more than 60 degrees from it (or the vertex is on a
   // feature or near another sheet): the cone shortcut must not change that.
-  MeshData d = test::icosphere(4);
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> radius(0.975, 1.025);
-  for (Vec3& p : d.vertices) p = radius(rng) * p;
-  SurfaceMesh input = test::build(d);
   FeatureOptions no_ridges;
   no_ridges.detect_ridges = false;
-  detect_features(input, no_ridges);
-  PolyhedralSurface geometry(input);
-  const MetricField metric(static_cast<std::size_t>(input.vertex_capacity()), isotropic_metric(0.05));
-  ControlSpace control(input, metric, true, MetricInterpolation::Linear, "sol0");
-  const AdaptedMesh adapted(input, geometry, control, LengthFormula::LinearMetric, false);
+  const JitteredSphere s(4, 0.025, 3, 0.05, no_ridges);
+  const SurfaceMesh& input = s.input;
+  const PolyhedralSurface& geometry = *s.geometry;
+  const AdaptedMesh& adapted = *s.adapted;
   std::vector<Vec3> unit(static_cast<std::size_t>(input.triangle_capacity()));
   for (Triangle t : input.triangles()) unit[static_cast<std::size_t>(t.idx)] = normalized(input.triangle_normal(t));
   int rough = 0, wrong = 0;

@@ -8,6 +8,7 @@
 
 #include "geometry/parallel_chunks.h"
 #include "geometry/symmetric_cg.h"
+#include "test_util.h"
 
 using namespace anisurf;
 
@@ -51,12 +52,6 @@ TestSystem make_system(int n, int band, unsigned seed) {
   return s;
 }
 
-struct ThreadLimitScope {
-  int saved = thread_limit().load();
-  explicit ThreadLimitScope(int n) { thread_limit() = n; }
-  ~ThreadLimitScope() { thread_limit() = saved; }
-};
-
 }  // namespace
 
 TEST_CASE("conjugate gradients: the solution of a sparse SPD system to the tolerance, the same for any thread count") {
@@ -70,11 +65,11 @@ TEST_CASE("conjugate gradients: the solution of a sparse SPD system to the toler
   std::vector<double> x1, x2;
   CgReport r1, r2;
   {
-    ThreadLimitScope one(1);
+    test::ThreadLimitScope one(1);
     r1 = solve_conjugate_gradient(s.A, b, 1e-10, 1000, x1);
   }
   {
-    ThreadLimitScope two(2);
+    test::ThreadLimitScope two(2);
     r2 = solve_conjugate_gradient(s.A, b, 1e-10, 1000, x2);
   }
   MESSAGE("n " << n << ": " << r1.iterations << " iterations, relative residual " << r1.relative_residual);

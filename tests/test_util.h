@@ -12,7 +12,17 @@
 #include <string>
 #include <vector>
 
+#include "geometry/parallel_chunks.h"
+
 namespace anisurf::test {
+
+// The engine's thread limit (parallel_chunks.h) set for a scope, restored
+// at its end: a test compares results on one thread and on several.
+struct ThreadLimitScope {
+  int saved = thread_limit().load();
+  explicit ThreadLimitScope(int n) { thread_limit() = n; }
+  ~ThreadLimitScope() { thread_limit() = saved; }
+};
 
 // Path of a file in ../shared (meshes/, bench/inputs/ ...), or "" if absent.
 inline std::string shared_file(const std::string& relative) {
