@@ -430,6 +430,31 @@ TEST_CASE("adapted mesh: T_G's rough triangles are those whose fans turn past 60
   CHECK(wrong == 0);
 }
 
+TEST_CASE("adapted mesh: count_inverted counts on several threads what is_inverted finds triangle by triangle") {
+  // T_G a sphere of 81920 triangles; T_1 its copy with every 50th vertex
+  // pushed past its neighbours along the surface (folded fans): the count in
+  // chunks of slots on 1 and 3 threads, each chunk with its own copy of the
+  // surface, equals the triangles' own tests.
+  const JitteredSphere s(6, 0.0, 1, 0.02, FeatureOptions{});
+  SurfaceMesh folded = s.input;
+  for (int v = 0; v < folded.vertex_capacity(); v += 50) {
+    const Vec3 p = folded.position(Vertex(v));
+    Vec3 tangent = cross(p, Vec3(0.3, 0.5, 0.8));
+    folded.position(Vertex(v)) = p + 0.05 * normalized(tangent);
+  }
+  AdaptedMesh adapted(folded, *s.geometry, *s.control, LengthFormula::LinearMetric, false);
+  int one_by_one = 0;
+  for (Triangle t : adapted.mesh().triangles()) one_by_one += adapted.is_inverted(t);
+  const test::ThreadLimitScope scope(1);
+  const int on_one = adapted.count_inverted();
+  thread_limit() = 3;
+  const int on_three = adapted.count_inverted();
+  INFO(one_by_one << " inverted of " << adapted.mesh().n_triangles());
+  CHECK(one_by_one > 100);
+  CHECK(on_one == one_by_one);
+  CHECK(on_three == one_by_one);
+}
+
 TEST_CASE("remesh: pass reports agree with measure_mesh_quality and name live vertices") {
   ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
   ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");

@@ -430,9 +430,20 @@ double AdaptedMesh::quality_in_one_metric(Triangle t) const {
 }
 
 int AdaptedMesh::count_inverted() {
+  // Parallel chunks of triangle slots, each searching its own copy of the
+  // surface (the first the surface itself): the searches' marks are per copy.
+  const int nt = mesh_.triangle_capacity();
+  const int chunks = chunk_count(nt, 32768);
+  std::vector<std::unique_ptr<GeometrySurface>> copies(static_cast<std::size_t>(chunks));
+  for (int k = 1; k < chunks; ++k) copies[static_cast<std::size_t>(k)] = geometry_.copy_for_thread();
+  std::vector<int> counts(static_cast<std::size_t>(chunks), 0);
+  run_chunks(nt, chunks, [&](int k, int begin, int end) {
+    GeometrySurface& g = k == 0 ? geometry_ : *copies[static_cast<std::size_t>(k)];
+    for (int i = begin; i < end; ++i)
+      if (!mesh_.is_deleted(Triangle(i)) && is_inverted(Triangle(i), g)) ++counts[static_cast<std::size_t>(k)];
+  });
   int n = 0;
-  for (Triangle t : mesh_.triangles())
-    if (is_inverted(t)) ++n;
+  for (int c : counts) n += c;
   return n;
 }
 
@@ -498,7 +509,9 @@ void AdaptedMesh::mark_rough_triangles() {
   rough_ = std::move(rough);
 }
 
-bool AdaptedMesh::is_inverted(Triangle t) {
+bool AdaptedMesh::is_inverted(Triangle t) { return is_inverted(t, geometry_); }
+
+bool AdaptedMesh::is_inverted(Triangle t, GeometrySurface& g) {
   std::array<Vec3, 3> p;
   std::array<bool, 3> free;
   std::array<Hint, 3> hints;
@@ -520,11 +533,16 @@ bool AdaptedMesh::is_inverted(Triangle t) {
     clear = free[k] && on_surface_[v] != 0 && !near_feature(hints[k]) && dot(nt, surface_normal(v)) > 0.5 * len;
   }
   if (clear) return false;
-  return !faces_surface(p, free, hints);
+  return !faces_surface(p, free, hints, g);
 }
 
 bool AdaptedMesh::faces_surface(const std::array<Vec3, 3>& p, const std::array<bool, 3>& free,
                                 const std::array<Hint, 3>& hints) {
+  return faces_surface(p, free, hints, geometry_);
+}
+
+bool AdaptedMesh::faces_surface(const std::array<Vec3, 3>& p, const std::array<bool, 3>& free,
+                                const std::array<Hint, 3>& hints, GeometrySurface& geometry) {
   const Vec3 nt = cross(p[1] - p[0], p[2] - p[0]);
   const Vec3 g = (p[0] + p[1] + p[2]) / 3.0;
   // Votes of the surface normal near the free corners (inside the
@@ -537,7 +555,7 @@ bool AdaptedMesh::faces_surface(const std::array<Vec3, 3>& p, const std::array<b
   for (int k = 0; k < 3; ++k) {
     if (!free[k]) continue;
     if (2 * against > votes || 2 * (against + votes - cast) <= votes) break;
-    const Projection pr = geometry_.project(0.9 * p[k] + 0.1 * g, std::span<const Hint>(&hints[k], 1), Constraint::Free);
+    const Projection pr = geometry.project(0.9 * p[k] + 0.1 * g, std::span<const Hint>(&hints[k], 1), Constraint::Free);
     ++cast;
     if (!(dot(nt, pr.normal) > 0)) ++against;
   }
@@ -550,14 +568,14 @@ bool AdaptedMesh::faces_surface(const std::array<Vec3, 3>& p, const std::array<b
   // triangle is judged again from the centroid moved by that distance
   // along its normal: by the sheet it faces, when there is one in front of
   // it (a real inversion finds the same sheet again).
-  const Projection first = geometry_.project(g, std::span<const Hint>(&hints[0], 1), Constraint::Free);
+  const Projection first = geometry.project(g, std::span<const Hint>(&hints[0], 1), Constraint::Free);
   if (dot(nt, first.normal) > 0) return true;
   const double d = norm(first.point - g);
   const double area2 = norm(nt);
   if (d > 0 && area2 > 0 && dot(first.point - g, nt) < 0) {
     const Vec3 front = g + (d / area2) * nt;
     const Hint h1 = first.location.hint();
-    const Projection second = geometry_.project(front, std::span<const Hint>(&h1, 1), Constraint::Free);
+    const Projection second = geometry.project(front, std::span<const Hint>(&h1, 1), Constraint::Free);
     if (dot(second.point - g, nt) > 0 && dot(nt, second.normal) > 0) return true;
   }
   return false;

@@ -220,6 +220,10 @@ class AdaptedMesh {
   // (the corner 0's for the centroid); true when it faces the surface (not
   // inverted). The operators check some new triangles with it.
   bool faces_surface(const std::array<Vec3, 3>& p, const std::array<bool, 3>& free, const std::array<Hint, 3>& hints);
+  // The same two searching the surface g (a copy for another thread).
+  bool is_inverted(Triangle t, GeometrySurface& g);
+  bool faces_surface(const std::array<Vec3, 3>& p, const std::array<bool, 3>& free, const std::array<Hint, 3>& hints,
+                     GeometrySurface& g);
 
  private:
   SurfaceMesh mesh_;
