@@ -455,6 +455,37 @@ TEST_CASE("adapted mesh: count_inverted counts on several threads what is_invert
   CHECK(on_three == one_by_one);
 }
 
+TEST_CASE("remesh: a coarsening's collapses leave their swaps to the fans they settle") {
+  // A sphere of 20480 triangles coarsened about 3 times in length: with
+  // defer_unsettled_swaps a collapse whose fan still holds an edge to
+  // collapse tries no swaps; the fans settled and the swap pass after make
+  // up for them. Fewer swaps, a valid mesh and the same shapes after the
+  // swap pass.
+  struct Outcome {
+    int collapses = 0, swaps = 0;
+    double q_min = 0, q_mean = 0;
+  };
+  auto coarsen = [](bool defer) {
+    const JitteredSphere s(5, 0.01, 7, 0.15, FeatureOptions{});
+    RemeshOptions o;
+    o.defer_unsettled_swaps = defer;
+    Remesher r(*s.adapted, o);
+    const PassReport collapsed = r.step(PassKind::Collapse);
+    check_state(*s.adapted, defer ? "deferred collapse pass" : "collapse pass");
+    const PassReport swapped = r.step(PassKind::Swap);
+    check_state(*s.adapted, "swap pass");
+    return Outcome{collapsed.collapses, collapsed.swaps + swapped.swaps, swapped.q_min, swapped.q_mean};
+  };
+  const Outcome now = coarsen(false), deferred = coarsen(true);
+  INFO("swaps " << now.swaps << " -> " << deferred.swaps << ", q min " << now.q_min << " -> " << deferred.q_min
+                << ", q mean " << now.q_mean << " -> " << deferred.q_mean);
+  CHECK(now.collapses > 5000);
+  CHECK(deferred.collapses > 0.95 * now.collapses);
+  CHECK(deferred.swaps < 0.8 * now.swaps);
+  CHECK(deferred.q_min > 0.8 * now.q_min);
+  CHECK(deferred.q_mean > now.q_mean - 0.01);
+}
+
 TEST_CASE("remesh: pass reports agree with measure_mesh_quality and name live vertices") {
   ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/hemi.mesh");
   ANISURF_REQUIRE_SHARED(sol, "bench/inputs/hemi_iso.sol");

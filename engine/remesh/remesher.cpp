@@ -392,12 +392,21 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
       continue;
     }
     ++changes;
-    const Vertex v = apply(r, c, plan, follow_new_edges);
+    // A collapse's swaps wait until its fan has no edge left to collapse.
+    const bool defer = Edges::kind == PassKind::Collapse && options_.defer_unsettled_swaps;
+    const Vertex v = apply(r, c, plan, follow_new_edges && !defer);
     if (!follow_new_edges || !v.is_valid()) continue;
-    for_ring_edges(mesh, v, [&](Vertex w, Corner e) {
-      const double l = mesh_.length(v, w);
-      if (Edges::outside(sags, e, l, o)) queue.push(Edges::key(l), v.idx, w.idx, -1);
-    });
+    auto queue_ring = [&] {
+      bool queued = false;
+      for_ring_edges(mesh, v, [&](Vertex w, Corner e) {
+        const double l = mesh_.length(v, w);
+        if (!Edges::outside(sags, e, l, o)) return;
+        queue.push(Edges::key(l), v.idx, w.idx, -1);
+        queued = true;
+      });
+      return queued;
+    };
+    if (!queue_ring() && defer && local_swaps(v, r) > 0) queue_ring();
   }
   return changes;
 }

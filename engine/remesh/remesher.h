@@ -78,6 +78,13 @@ struct RemeshOptions {
   bool valence_swaps = true;
   double valence_swap_gain = 0.6;
   bool local_swaps = true;           // section 6, step 2: swaps around each split / collapse
+  // ... except after a collapse that leaves an edge of its fan to collapse
+  // next (ours): the fan changes again at once, so its swaps wait for the
+  // collapse that settles it, or for the swap pass after the collapse pass,
+  // which visits every vertex the collapses touched. A coarsening that
+  // merges a fine mesh fan by fan tries each fan's swaps once, not after
+  // every one of its collapses.
+  bool defer_unsettled_swaps = true;
   int max_local_swap_visits = 4;     // ... at most this many swaps per edge of the vertex's link at the start
   int max_swap_visits = 8;           // a swap pass ends after this many visits per edge it started with
   // Budget of a split or collapse pass (a guard against cycles that grows
