@@ -198,4 +198,22 @@ TEST_CASE("anisurf metric: errors name the expression, its position or the verte
     const double h = std::min(0.5, 0.1 + sq.position(Vertex(r.vertex_map[i])).x);
     CHECK(M[i].xx() == doctest::Approx(1 / (h * h)).epsilon(1e-12));
   }
+  // --hgrad -1 turns the gradation off (as in `anisurf adapt` and Mmg): the
+  // same field as without it, where a gradation of 1.05 changes it; a ratio
+  // below 1 is refused.
+  const std::string off = out + ".off.sol", graded = out + ".graded.sol";
+  log = capture(base + "--size '0.1 + x' --hmax 0.5 --hgrad -1 -o '" + off + "' 2>&1", &rc);
+  REQUIRE(rc == 0);
+  log = capture(base + "--size '0.1 + x' --hmax 0.5 --hgrad 1.05 -o '" + graded + "' 2>&1", &rc);
+  REQUIRE(rc == 0);
+  const auto M_off = read_metric_sol(off, r.input_vertices), M_graded = read_metric_sol(graded, r.input_vertices);
+  int changed = 0;
+  for (int i = 0; i < r.input_vertices; ++i) {
+    CHECK(M_off[i].m == M[i].m);
+    changed += M_graded[i].m != M[i].m;
+  }
+  CHECK(changed > 0);
+  log = capture(base + "--size 0.1 --hgrad 0.5 -o '" + out + "' 2>&1", &rc);
+  CHECK(rc == 2);
+  CHECK(log.find("--hgrad expects a ratio > 1, or -1 (off)") != std::string::npos);
 }

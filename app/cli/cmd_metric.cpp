@@ -76,7 +76,8 @@ const char* kMetricHelp =
     "  --hausd D             with another source: intersected with the curvature\n"
     "                        metric of D (Mmg's -hausd), before the gradation\n"
     "  --hgrad R             anisotropic gradation: sizes grow by at most about R per\n"
-    "                        unit metric length along edges (Mmg's -hgrad; off by default)\n"
+    "                        unit metric length along edges (Mmg's -hgrad; off by default;\n"
+    "                        -1: off)\n"
     "  --hgrad-space S       metric (default) or physical growth law\n"
     "  --weld TOL            merge the vertices closer than TOL x the bounding box\n"
     "                        diagonal before building the metric, in every format (0:\n"
@@ -207,7 +208,7 @@ int run_metric(const std::vector<std::string>& args) {
   const std::string out = p.option("-o", "--output");
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double hausd = p.option_double("--hausd", nan);
-  const double hgrad = p.option_double("--hgrad", nan);
+  double hgrad = p.option_double("--hgrad", nan);
   const std::string hgrad_space = p.option("--hgrad-space");
   const BuildOptions build = weld_build_options(p);
   const auto pos = p.positionals();
@@ -217,8 +218,10 @@ int run_metric(const std::vector<std::string>& args) {
     throw UsageError{"give exactly one source: --size, --tensor, --hessian-of, --curvature or --sol"};
   if (mo.curvature && !(hausd > 0)) throw UsageError{"--curvature needs --hausd D with D > 0"};
   GradationOptions grad;
+  // -1, 0 or 1 turn the gradation off, as in `anisurf adapt` and Mmg.
+  if (hgrad == -1 || hgrad == 0 || hgrad == 1) hgrad = nan;
   if (!std::isnan(hgrad)) {
-    if (!(hgrad > 1)) throw UsageError{"--hgrad expects a ratio > 1"};
+    if (!(hgrad > 1)) throw UsageError{"--hgrad expects a ratio > 1, or -1 (off)"};
     grad.ratio = hgrad;
   }
   if (!hgrad_space.empty() && hgrad_space != "metric" && hgrad_space != "physical")
