@@ -186,26 +186,29 @@ int vertex_bound(const std::vector<Tri>& tris) {
 }
 
 // The uses of every edge (key, triangle, opposite corner), ordered by key,
-// then triangle, then corner: made in (triangle, corner) order, placed
+// then triangle, then corner: made in (triangle, corner) order (twice: to
+// count, then to place, with no array of them in input order), placed
 // stably by the key's first vertex (a counting sort), then each vertex's few
 // uses sorted stably on the key (insertion).
 std::vector<EdgeUse> sorted_edge_uses(const std::vector<Tri>& tris) {
-  std::vector<EdgeUse> uses;
-  reserve_huge(uses, tris.size() * 3);
-  for (int t = 0; t < static_cast<int>(tris.size()); ++t)
-    for (int k = 0; k < 3; ++k)
-      uses.push_back({edge_key(tris[t][(k + 1) % 3], tris[t][(k + 2) % 3]), t, k});
+  const int nt = static_cast<int>(tris.size());
+  auto use = [&](int t, int k) { return EdgeUse{edge_key(tris[t][(k + 1) % 3], tris[t][(k + 2) % 3]), t, k}; };
   const auto buckets = static_cast<std::size_t>(vertex_bound(tris));
   std::vector<int> start(buckets + 1, 0);
   auto first_vertex = [](const EdgeUse& u) { return static_cast<std::size_t>(u.key >> 32); };
-  for (const EdgeUse& u : uses) ++start[first_vertex(u) + 1];
+  for (int t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k) ++start[first_vertex(use(t, k)) + 1];
   for (std::size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
   std::vector<EdgeUse> sorted;
-  reserve_huge(sorted, uses.size());
-  sorted.resize(uses.size());
+  reserve_huge(sorted, tris.size() * 3);
+  sorted.resize(tris.size() * 3);
   {
     std::vector<int> fill(start.begin(), start.end() - 1);
-    for (const EdgeUse& u : uses) sorted[static_cast<std::size_t>(fill[first_vertex(u)]++)] = u;
+    for (int t = 0; t < nt; ++t)
+      for (int k = 0; k < 3; ++k) {
+        const EdgeUse u = use(t, k);
+        sorted[static_cast<std::size_t>(fill[first_vertex(u)]++)] = u;
+      }
   }
   for (std::size_t b = 0; b < buckets; ++b)
     for (int i = start[b] + 1; i < start[b + 1]; ++i) {
