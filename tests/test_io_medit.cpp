@@ -9,6 +9,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <cmath>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -16,6 +18,8 @@
 #include "core/error.h"
 #include "io/formats.h"
 #include "io/mesh_io.h"
+#include "io/parallel_lines.h"
+#include "io/text_reader.h"
 #include "mesh/build.h"
 #include "test_util.h"
 
@@ -684,4 +688,171 @@ TEST_CASE("legacy VTK writer: 2D tensors become 3x3 and 2D vectors get z = 0") {
   CHECK(m == std::vector<double>{4, 5, 0, 5, 6, 0, 0, 0, 0});
   const std::vector<double> v(f.point_arrays[1].values.begin() + 3, f.point_arrays[1].values.begin() + 6);
   CHECK(v == std::vector<double>{3, 4, 0});
+}
+
+namespace {
+
+// The text of a 300 x 300 grid (90000 vertices, 178802 triangles: sections
+// large enough to be read in parallel chunks) with coordinates that need 17
+// digits, and of a SolAtVertices of one tensor per vertex; `line` edits each
+// data line (0-based within its section) before it is written.
+struct GridText {
+  std::string mesh, sol;
+};
+GridText grid_text(const std::function<std::string(const char* section, int i, std::string line)>& edit) {
+  const int n = 300;
+  GridText g;
+  g.mesh = "MeshVersionFormatted 2\nDimension 3\nVertices\n" + std::to_string(n * n) + "\n";
+  for (int i = 0; i < n * n; ++i) {
+    const double x = (i % n) / 3.0, y = (i / n) / 7.0, z = std::sin(0.1 * i);
+    g.mesh += edit("Vertices", i,
+                   format_double(x) + " " + format_double(y) + " " + format_double(z) + " " + std::to_string(i % 5));
+    g.mesh += "\n";
+  }
+  std::vector<std::string> tris;
+  for (int r = 0; r + 1 < n; ++r)
+    for (int c = 0; c + 1 < n; ++c) {
+      const int a = r * n + c + 1, b = a + 1, d = a + n, e = d + 1;
+      tris.push_back(std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(e) + " 1");
+      tris.push_back(std::to_string(a) + " " + std::to_string(e) + " " + std::to_string(d) + " 2");
+    }
+  g.mesh += "Triangles\n" + std::to_string(tris.size()) + "\n";
+  for (std::size_t t = 0; t < tris.size(); ++t) g.mesh += edit("Triangles", static_cast<int>(t), tris[t]) + "\n";
+  g.mesh += "End\n";
+  g.sol = "MeshVersionFormatted 2\nDimension 3\nSolAtVertices\n" + std::to_string(n * n) + "\n1 3\n";
+  for (int i = 0; i < n * n; ++i) {
+    std::string line;
+    for (int k = 0; k < 6; ++k) line += (k ? " " : "") + format_double(1.0 + k + i / 9.0);
+    g.sol += edit("SolAtVertices", i, line) + "\n";
+  }
+  g.sol += "End\n";
+  return g;
+}
+
+std::string keep(const char*, int, std::string line) { return line; }
+
+struct ReadOutcome {
+  MeshData mesh;
+  std::vector<FieldData> sol;
+  std::string error;
+};
+// Reads the grid's files with `threads` threads (the error's message when
+// a reader refuses them).
+ReadOutcome read_grid(const GridText& g, int threads) {
+  const auto dir = test::temp_dir("parallel_lines");
+  const std::string mesh = (dir / "grid.mesh").string(), sol = (dir / "grid.sol").string();
+  std::ofstream(mesh, std::ios::binary) << g.mesh;
+  std::ofstream(sol, std::ios::binary) << g.sol;
+  const test::ThreadLimitScope scope(threads);
+  ReadOutcome out;
+  try {
+    out.mesh = io::read_medit(mesh);
+    out.sol = read_sol(sol);
+  } catch (const IoError& e) {
+    out.error = e.what();
+  }
+  return out;
+}
+
+bool same_data(const ReadOutcome& a, const ReadOutcome& b) {
+  if (!same_points(a.mesh.vertices, b.mesh.vertices) || a.mesh.vertex_refs != b.mesh.vertex_refs ||
+      a.mesh.triangles != b.mesh.triangles || a.mesh.triangle_refs != b.mesh.triangle_refs || a.sol.size() != b.sol.size())
+    return false;
+  for (std::size_t k = 0; k < a.sol.size(); ++k)
+    if (a.sol[k].values.size() != b.sol[k].values.size() ||
+        std::memcmp(a.sol[k].values.data(), b.sol[k].values.data(), a.sol[k].values.size() * sizeof(double)) != 0)
+      return false;
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("medit and sol ascii: large sections read on parallel chunks give what one thread reads, errors alike") {
+  // One entity per line: 1 and 3 threads read the same bits.
+  const ReadOutcome one = read_grid(grid_text(keep), 1);
+  REQUIRE(one.error.empty());
+  CHECK(one.mesh.vertices.size() == 90000);
+  CHECK(one.mesh.triangles.size() == 178802);
+  REQUIRE(one.sol.size() == 1);
+  CHECK(one.sol[0].values.size() == 540000);
+  CHECK(one.mesh.vertices[12345].x == 45.0 / 3.0);
+  CHECK(one.mesh.triangles[1][2] == 300);
+  CHECK(one.sol[0].values[6 * 9 + 2] == 3.0 + 1.0);
+  CHECK(same_data(one, read_grid(grid_text(keep), 3)));
+  // Layouts the chunks leave to the token by token reading (a comment, an
+  // entity across two lines, a line of two entities, CRLF ends, tabs):
+  // the same data on 3 threads.
+  const std::vector<std::function<std::string(const char*, int, std::string)>> layouts = {
+      [](const char* s, int i, std::string l) { return i == 70000 ? l + " # a comment" : l; },
+      [](const char* s, int i, std::string l) {
+        return std::string(s) == "Triangles" && i == 100 ? l.replace(l.find(' '), 1, "\n") : l;
+      },
+      [](const char* s, int i, std::string l) {
+        return std::string(s) == "SolAtVertices" && i == 80000 ? l.replace(l.rfind(' '), 1, "\n") : l;
+      },
+      [](const char*, int, std::string l) { return l + "\r"; },
+      [](const char*, int i, std::string l) { return i % 7 == 0 ? "\t" + l + " \t" : l; },
+  };
+  for (std::size_t k = 0; k < layouts.size(); ++k) {
+    CAPTURE(k);
+    const ReadOutcome three = read_grid(grid_text(layouts[k]), 3);
+    CHECK(three.error.empty());
+    CHECK(same_data(one, three));
+  }
+  // Values the reading refuses: the same message (file, line, entity) on 1
+  // and 3 threads.
+  const std::vector<std::function<std::string(const char*, int, std::string)>> bad = {
+      [](const char* s, int i, std::string l) { return std::string(s) == "Triangles" && i == 150000 ? "7 0 8 1" : l; },
+      [](const char* s, int i, std::string l) { return std::string(s) == "Triangles" && i == 9 ? "7 90001 8 1" : l; },
+      [](const char* s, int i, std::string l) { return std::string(s) == "Vertices" && i == 88888 ? "1 nan 2 0" : l; },
+      [](const char* s, int i, std::string l) { return std::string(s) == "Vertices" && i == 5 ? "1 2 3 x" : l; },
+      [](const char* s, int i, std::string l) {
+        return std::string(s) == "SolAtVertices" && i == 66666 ? "1 2 3 inf 5 6" : l;
+      },
+  };
+  for (std::size_t k = 0; k < bad.size(); ++k) {
+    CAPTURE(k);
+    const ReadOutcome serial = read_grid(grid_text(bad[k]), 1), parallel = read_grid(grid_text(bad[k]), 3);
+    CHECK(!serial.error.empty());
+    CHECK(parallel.error == serial.error);
+  }
+}
+
+TEST_CASE("parse_lines_in_parallel takes every line of a regular run on several threads, none of an irregular one") {
+  // 100000 lines of "i 2i" after a count line, then a keyword.
+  std::string text = "Section 100000  \n";
+  for (int i = 0; i < 100000; ++i) text += std::to_string(i) + " " + std::to_string(2 * i) + "\n";
+  text += "End\n";
+  auto run = [](const std::string& t, int threads, std::vector<long long>& got) {
+    TextReader in(t, "lines.txt", '#');
+    std::string_view token;
+    REQUIRE(in.next(token));
+    REQUIRE(in.next(token));  // the count
+    got.assign(100000, -1);
+    const test::ThreadLimitScope scope(threads);
+    const bool taken = parse_lines_in_parallel(in, 100000, 2, 65536, [&](long long i, const std::string_view* tok) {
+      long long a = 0, b = 0;
+      if (!parse_integer(tok[0], a) || !parse_integer(tok[1], b)) return false;
+      got[static_cast<std::size_t>(i)] = a + b;
+      return true;
+    });
+    // Past the lines when taken (the keyword next, on its line), else where it was.
+    REQUIRE(in.next(token));
+    CHECK(token == (taken ? "End" : "0"));
+    CHECK(in.line() == (taken ? 100002 : 2));
+    return taken;
+  };
+  std::vector<long long> got;
+  CHECK(run(text, 3, got));
+  bool all = true;
+  for (int i = 0; i < 100000; ++i) all = all && got[static_cast<std::size_t>(i)] == 3LL * i;
+  CHECK(all);
+  CHECK_FALSE(run(text, 1, got));  // one thread: the caller's own reading
+  std::string comment = text, split = text, keyword = text, extra = text;
+  comment.insert(comment.find("\n77777 "), " # note");
+  split.replace(split.find("\n5000 ") + 5, 1, "\n");
+  keyword.replace(keyword.find("\n99999 ") + 1, 5, "Edges");
+  extra.insert(extra.find("\n123 ") + 4, " 9");
+  for (const std::string* t : {&comment, &split, &keyword, &extra}) CHECK_FALSE(run(*t, 3, got));
+  CHECK_FALSE(run(text.substr(0, text.size() - 20), 3, got));  // fewer lines than announced
 }

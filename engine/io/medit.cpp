@@ -22,6 +22,7 @@
 #include "core/error.h"
 #include "core/huge_pages.h"
 #include "io/formats.h"
+#include "io/parallel_lines.h"
 #include "io/text_reader.h"
 
 namespace anisurf::io {
@@ -148,6 +149,8 @@ class Collector {
 
   // The number of entries of a target section, fixed once it has been read.
   void set_count(Target t, std::size_t n) { counts_[static_cast<int>(t)] = static_cast<long long>(n); }
+  // That number, or -1 before the section has been read.
+  long long count(Target t) const { return counts_[static_cast<int>(t)]; }
 
   // Converts a 1-based id of `target` read at `loc` for entity `index`
   // (0-based) of section `s`; checks its range now or at finish().
@@ -478,6 +481,10 @@ class AsciiReader {
       return;
     }
     reserve(s, std::min<long long>(n, static_cast<long long>(size_ / (2 * static_cast<std::size_t>(tokens)) + 1)));
+    if (read_lines_in_parallel(s, n, tokens)) {
+      section_done(c_, s.role);
+      return;
+    }
     const int nids = id_count(s);
     const bool ref = has_ref(s);
     const int nreals = s.dim_reals * dim_;
@@ -508,6 +515,60 @@ class AsciiReader {
       store_entity(c_, s.role, dim_, reals, ids, r);
     }
     section_done(c_, s.role);
+  }
+
+  // A large Vertices or Triangles section written one entity per line (as
+  // the writers do) parsed on parallel chunks straight into the data: the
+  // values the token by token reading takes. False, with nothing read,
+  // where that reading must follow (parse_lines_in_parallel), a value it
+  // would refuse with its message, or a vertex id out of range or read
+  // before the Vertices.
+  bool read_lines_in_parallel(const SectionInfo& s, long long n, int tokens) {
+    constexpr long long kMinLines = 65536;
+    const bool vertices = s.role == Role::Vertices;
+    const long long nv = c_.count(Target::Vertex);
+    // A token takes 2 bytes of text at least: a count the file cannot hold
+    // allocates nothing here.
+    if (!(vertices || s.role == Role::Triangles) || n < kMinLines || (!vertices && nv < 0) ||
+        static_cast<std::size_t>(n) * static_cast<std::size_t>(tokens) > size_ / 2)
+      return false;
+    MeshData& d = c_.data;
+    const auto count = static_cast<std::size_t>(n);
+    if (vertices) {
+      d.vertices.resize(count);
+      d.vertex_refs.resize(count);
+    } else {
+      d.triangles.resize(count);
+      d.triangle_refs.resize(count);
+    }
+    const int dim = dim_;
+    const bool taken = parse_lines_in_parallel(in_, n, tokens, kMinLines, [&](long long line, const std::string_view* token) {
+      const auto i = static_cast<std::size_t>(line);
+      long long ref = 0;
+      if (!parse_integer(token[tokens - 1], ref) || ref < INT_MIN || ref > INT_MAX) return false;
+      if (vertices) {
+        double r[3] = {0, 0, 0};
+        for (int j = 0; j < dim; ++j)
+          if (!parse_real(token[j], r[j]) || !std::isfinite(r[j])) return false;
+        d.vertices[i] = {r[0], r[1], r[2]};
+        d.vertex_refs[i] = static_cast<int>(ref);
+      } else {
+        long long id[3];
+        for (int j = 0; j < 3; ++j)
+          if (!parse_integer(token[j], id[j]) || id[j] < 1 || id[j] > nv) return false;
+        d.triangles[i] = {static_cast<int>(id[0] - 1), static_cast<int>(id[1] - 1), static_cast<int>(id[2] - 1)};
+        d.triangle_refs[i] = static_cast<int>(ref);
+      }
+      return true;
+    });
+    if (!taken && vertices) {
+      d.vertices.clear();
+      d.vertex_refs.clear();
+    } else if (!taken) {
+      d.triangles.clear();
+      d.triangle_refs.clear();
+    }
+    return taken;
   }
 
   // Skips `n` number tokens of a skipped section; a keyword among them means

@@ -23,6 +23,7 @@
 #include "core/error.h"
 #include "core/huge_pages.h"
 #include "io/formats.h"
+#include "io/parallel_lines.h"
 #include "io/text_reader.h"
 
 namespace anisurf::io {
@@ -210,6 +211,10 @@ class AsciiSolReader {
       types.push_back(static_cast<int>(type));
     }
     std::vector<FieldData> fields = make_fields(types, dim_, n, fields_.size(), max_values_);
+    if (read_lines_in_parallel(fields, n)) {
+      for (auto& f : fields) fields_.push_back(std::move(f));
+      return;
+    }
     std::string_view t;
     for (long long i = 0; i < n; ++i) {
       for (auto& f : fields) {
@@ -231,6 +236,32 @@ class AsciiSolReader {
       }
     }
     for (auto& f : fields) fields_.push_back(std::move(f));
+  }
+
+  // A large section written a vertex per line (as the writers do) parsed
+  // on parallel chunks: the values the reading below takes. False, with
+  // nothing read, where that reading must follow (parse_lines_in_parallel)
+  // or a value is one it refuses with its message.
+  bool read_lines_in_parallel(std::vector<FieldData>& fields, long long n) {
+    constexpr long long kMinLines = 65536;
+    int tokens = 0;
+    for (const auto& f : fields) tokens += f.info.ncomp;
+    // A value takes 2 bytes of text at least: a count the file cannot hold
+    // allocates nothing here.
+    if (n < kMinLines || tokens > kMaxLineTokens || static_cast<std::size_t>(n) * tokens > max_values_) return false;
+    for (auto& f : fields) f.values.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(f.info.ncomp));
+    const bool taken = parse_lines_in_parallel(in_, n, tokens, kMinLines, [&](long long i, const std::string_view* token) {
+      for (auto& f : fields) {
+        const int nc = f.info.ncomp;
+        double* out = f.values.data() + static_cast<std::size_t>(i) * static_cast<std::size_t>(nc);
+        for (int c = 0; c < nc; ++c, ++token)
+          if (!parse_real(*token, out[c]) || !std::isfinite(out[c])) return false;
+      }
+      return true;
+    });
+    if (!taken)
+      for (auto& f : fields) f.values.clear();
+    return taken;
   }
 
   std::vector<std::string> names_;

@@ -41,6 +41,16 @@ class TextReader {
   bool at_end();
   // Line of the last token returned (1-based).
   int line() const { return token_line_; }
+  // The whole text and the reading position, for a caller that parses a
+  // run of whole lines itself; skip_parsed(end, lines) then moves past them
+  // (`end` just after their last newline, `lines` the newlines passed).
+  std::string_view text() const { return data_; }
+  char comment() const { return comment_; }
+  std::size_t position() const { return pos_; }
+  void skip_parsed(std::size_t end, int lines) {
+    pos_ = end;
+    line_ += lines;
+  }
   const std::string& path() const { return path_; }
   // Throws IoError "path:line: <message>".
   [[noreturn]] void fail(const std::string& message) const;
