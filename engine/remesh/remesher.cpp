@@ -347,6 +347,8 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
   SurfaceMesh& mesh = mesh_.mesh();
   const OperatorOptions& o = options_.op;
   EdgeQueue<typename Edges::Order> queue(queue_);
+  // A collapse's swaps wait until its fan has no edge left to collapse.
+  const bool defer = Edges::kind == PassKind::Collapse && options_.defer_unsettled_swaps;
   auto sags = [this](Corner c) { return edge_sags(c); };
   RefusalMemo* memo = !memo_on_ || !options_.refusal_memo ? nullptr
                       : Edges::kind == PassKind::Split ? &split_refusals_
@@ -392,8 +394,6 @@ int Remesher::priority_pass(PassReport& r, bool follow_new_edges) {
       continue;
     }
     ++changes;
-    // A collapse's swaps wait until its fan has no edge left to collapse.
-    const bool defer = Edges::kind == PassKind::Collapse && options_.defer_unsettled_swaps;
     const Vertex v = apply(r, c, plan, follow_new_edges && !defer);
     if (!follow_new_edges || !v.is_valid()) continue;
     auto queue_ring = [&] {
