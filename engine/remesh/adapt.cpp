@@ -440,7 +440,14 @@ AdaptResult adapt(AdaptInput input, AdaptOptions options, const AdaptCallbacks& 
       throw AdaptationStopped(over_limit_message(report.passes, remesh_options, report.predicted_vertices,
                                                  t0.n_vertices(), options.max_growth));
     report.remesh_seconds = seconds_since(t_run);
-    report.final = Remesher(*adapted, remesh_options).measure();
+    // The serial schedule's final pass measured the whole mesh as it ends
+    // (regions report their own parts; an interrupted pass is not the end).
+    const PassReport* last_pass = report.passes.empty() ? nullptr : &report.passes.back();
+    if (last_pass && last_pass->region < 0 && last_pass->measured && !last_pass->interrupted) {
+      copy_state(*last_pass, report.final);
+    } else {
+      report.final = Remesher(*adapted, remesh_options).measure();
+    }
     report.inverted_after = adapted->count_inverted();
 
     SurfaceMesh t1 = std::move(adapted->mesh());

@@ -917,6 +917,18 @@ void Remesher::fill_state(PassReport& r, bool parallel) const {
   r.q_mean = r.triangles ? total.q_sum / r.triangles : 0.0;
 }
 
+void copy_state(const PassReport& from, PassReport& to) {
+  to.vertices = from.vertices;
+  to.triangles = from.triangles;
+  to.edges = from.edges;
+  to.histogram = from.histogram;
+  to.in_band_share = from.in_band_share;
+  to.length_min = from.length_min;
+  to.length_max = from.length_max;
+  to.q_min = from.q_min;
+  to.q_mean = from.q_mean;
+}
+
 PassReport Remesher::measure() const {
   PassReport r;
   r.round = schedule_.round;
@@ -960,15 +972,7 @@ PassReport Remesher::step(PassKind kind, const PassReport* previous, bool measur
   } else if (previous && previous->measured && r.changes() == 0) {
     // Every change of the mesh is counted: a pass without any left the
     // state of the previous one (within run(), nothing else touches the mesh).
-    r.vertices = previous->vertices;
-    r.triangles = previous->triangles;
-    r.edges = previous->edges;
-    r.histogram = previous->histogram;
-    r.in_band_share = previous->in_band_share;
-    r.length_min = previous->length_min;
-    r.length_max = previous->length_max;
-    r.q_min = previous->q_min;
-    r.q_mean = previous->q_mean;
+    copy_state(*previous, r);
   } else {
     fill_state(r, false);
   }

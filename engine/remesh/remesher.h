@@ -230,6 +230,9 @@ struct PassReport {
   int changes() const { return splits + collapses + swaps + moves + removed_vertices; }
 };
 
+// The state after `from` (sizes, edge lengths, quality) into `to`.
+void copy_state(const PassReport& from, PassReport& to);
+
 // Where run()'s schedule stands: initial swaps; per relaxation stage
 // (Remark 6), rounds (Remesher::round_plan: split, collapse, swap,
 // smoothing) until a round splits and collapses at most converged_share of
