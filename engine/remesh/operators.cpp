@@ -597,7 +597,7 @@ struct FanQuality {
 
 Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Placement& p, bool moves,
                          VertexKind kind_r, VertexKind kind_k, const OperatorOptions& o, FanQuality& fan_quality,
-                         bool topology_checked = false) {
+                         bool topology_checked = false, double* quality_after = nullptr) {
   const SurfaceMesh& mesh = m.mesh();
   if (!topology_checked && !anisurf::can_collapse(mesh, c)) return Rejection::Topology;
   if (joins_frozen(mesh, r, k)) return Rejection::Topology;
@@ -635,6 +635,7 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
     }
   }
   if (!any) return Rejection::Topology;
+  if (quality_after) *quality_after = q_new;
   // New or changed edges no longer than lmax.
   for (Vertex w : {r, k}) {
     if (w == k && !moves) continue;
@@ -765,6 +766,57 @@ CollapsePlan can_remove_vertex(AdaptedMesh& m, Vertex v, const OperatorOptions& 
       out.kept = w;
       out.at = at;
       out.moves = false;
+      return out;
+    }
+  }
+  return out;
+}
+
+CollapsePlan can_collapse_for_quality(AdaptedMesh& m, Vertex v, const OperatorOptions& o, double gain) {
+  const SurfaceMesh& mesh = m.mesh();
+  CollapsePlan out;
+  const VertexKind kv = m.kind(v);
+  out.why = Rejection::Fixed;
+  if (kv == VertexKind::Fixed) return out;
+  double fan_v = 1;
+  for (Corner x : mesh.fan_corners(v)) fan_v = std::min(fan_v, m.quality(M::triangle(x)));
+  std::vector<Vertex> cands;
+  if (kv == VertexKind::Curve) {
+    for (const FeatureEdgeAt& f : feature_edges_at(mesh, v)) cands.push_back(f.other);
+  } else {
+    cands = one_ring(mesh, v);
+  }
+  std::vector<std::pair<double, Vertex>> by_length;
+  for (Vertex w : cands) by_length.push_back({m.length(v, w), w});
+  std::sort(by_length.begin(), by_length.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  OperatorOptions judged_here = o;
+  judged_here.collapse_quality = 0;  // the quality is compared below, with the triangles replaced
+  for (const auto& [len, w] : by_length) {
+    (void)len;
+    const Corner c = find_edge_corner(mesh, v, w);
+    if (!c.is_valid()) continue;
+    if (!anisurf::can_collapse(mesh, c)) {
+      out.why = Rejection::Topology;
+      continue;
+    }
+    const VertexKind kw = m.kind(w);
+    for (const bool moves : {false, true}) {
+      if (moves && kw != kv) continue;  // the midpoint for ends alike, as can_collapse
+      const Placement at = moves ? m.place(0.5 * (mesh.position(v) + mesh.position(w)), kw, {v, w}) : m.current(w);
+      double before = fan_v;
+      if (moves)
+        for (Corner x : mesh.fan_corners(w)) before = std::min(before, m.quality(M::triangle(x)));
+      FanQuality unused;
+      double after = 0;
+      Rejection why = check_collapse(m, c, v, w, at, moves, kv, kw, judged_here, unused, true, &after);
+      if (why == Rejection::None && !(after > gain * before)) why = Rejection::Quality;
+      out.why = why;
+      if (why != Rejection::None) continue;
+      out.edge = c;
+      out.removed = v;
+      out.kept = w;
+      out.at = at;
+      out.moves = moves;
       return out;
     }
   }

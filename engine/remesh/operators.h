@@ -205,6 +205,12 @@ Vertex collapse(AdaptedMesh& m, const CollapsePlan& plan);
 // (along its curve for a curve vertex), the shortest in the metric first;
 // the other end stays. Same filters as can_collapse.
 CollapsePlan can_remove_vertex(AdaptedMesh& m, Vertex v, const OperatorOptions& o);
+// The final optimisation's repair of a poor fan (ours): removes v into a
+// neighbour (the shortest edge first; along its curve for a curve vertex),
+// which stays or, for ends alike, moves to the midpoint, when the worst
+// quality of the new triangles exceeds `gain` times the worst of those they
+// replace. The other filters of can_collapse, the quality excepted.
+CollapsePlan can_collapse_for_quality(AdaptedMesh& m, Vertex v, const OperatorOptions& o, double gain);
 
 // --- edge swap (section 5.4) --------------------------------------------------
 struct SwapPlan {

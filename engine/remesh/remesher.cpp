@@ -563,8 +563,48 @@ void Remesher::final_pass(PassReport& r) {
     smooth_pass(r, p < options_.final_full_passes ? INFINITY : options_.final_visit_quality, options_.final_keeps_lmin);
     if (r.moves == before) break;
   }
+  if (!r.interrupted && options_.repair_quality > 0 && repair_poor_fans(r) > 0) {
+    for (int p = 0; p < options_.final_smoothing_passes && !r.interrupted; ++p) {
+      const int before = r.moves;
+      smooth_pass(r, options_.final_visit_quality, options_.final_keeps_lmin);
+      if (r.moves == before) break;
+    }
+  }
   if (!r.interrupted) bound_distance(r);
   if (!r.interrupted) keep_creases(r);
+}
+
+int Remesher::repair_poor_fans(PassReport& r) {
+  SurfaceMesh& mesh = mesh_.mesh();
+  // The vertices of the poor triangles, the worst first.
+  std::vector<std::pair<double, int>> poor;
+  for (Triangle t : mesh.triangles()) {
+    const double q = mesh_.quality(t);
+    if (q < options_.repair_quality)
+      for (int k = 0; k < 3; ++k) poor.push_back({q, mesh.vertex(t, k).idx});
+  }
+  std::sort(poor.begin(), poor.end());
+  std::vector<std::uint8_t> done(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
+  smooth_active_.assign(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
+  int removed = 0;
+  for (const auto& [q, i] : poor) {
+    const Vertex v(i);
+    if (interrupted(r)) break;
+    if (static_cast<std::size_t>(i) < done.size() && done[static_cast<std::size_t>(i)]) continue;
+    if (static_cast<std::size_t>(i) < done.size()) done[static_cast<std::size_t>(i)] = 1;
+    if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+    const CollapsePlan plan = can_collapse_for_quality(mesh_, v, options_.op, options_.repair_gain);
+    if (plan.why != Rejection::None) {
+      refuse(r, PassKind::Final, plan.why);
+      continue;
+    }
+    const Vertex k = collapse(mesh_, plan);
+    ++r.collapses;
+    ++removed;
+    local_swaps(k, r);
+    touch(r, k);
+  }
+  return removed;
 }
 
 std::array<int, 2> Remesher::crease_spoke(Corner c) {

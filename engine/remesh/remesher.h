@@ -77,6 +77,14 @@ struct RemeshOptions {
   // quality of its two triangles to this share of the old.
   bool valence_swaps = true;
   double valence_swap_gain = 0.6;
+  // Final optimisation (ours): after the smoothing, the vertices of the
+  // triangles below repair_quality are removed into a neighbour where that
+  // raises the worst quality of the triangles replaced by the factor
+  // repair_gain (can_collapse_for_quality: a vertex squeezed where its
+  // fan cannot be shaped, its edges at lmin), the worst first; the
+  // smoothing then runs again around them. 0: off.
+  double repair_quality = 0.8;
+  double repair_gain = 1.05;
   bool local_swaps = true;           // section 6, step 2: swaps around each split / collapse
   // ... except after a collapse that leaves an edge of its fan to collapse
   // next (ours): the fan changes again at once, so its swaps wait for the
@@ -349,6 +357,9 @@ class Remesher {
   // `keep_lmin`: OperatorOptions::move_keeps_lmin.
   void smooth_pass(PassReport& r, double visit_below = INFINITY, bool keep_lmin = false);
   void final_pass(PassReport& r);
+  // The final pass's repair (RemeshOptions::repair_quality); returns the
+  // count of vertices removed.
+  int repair_poor_fans(PassReport& r);
   // The end of the final pass with a distance bound (RemeshOptions::
   // distance_bound): the sweeps of splits onto the input.
   void bound_distance(PassReport& r);
