@@ -102,6 +102,8 @@ TEST_CASE("anisurf adapt: bad command lines exit with 2, bad inputs with 1, noth
   CHECK(status == 2);
   adapt("'" + mesh + "' --size 0.1 --strip-width -1 -o '" + out + "'", &status);
   CHECK(status == 2);
+  adapt("'" + mesh + "' --size 0.1 --repair-quality 1.5 -o '" + out + "'", &status);
+  CHECK(status == 2);
   adapt("'" + mesh + "' --sol '" + (dir / "missing.sol").string() + "' -o '" + out + "'", &status);
   CHECK(status == 1);
   adapt("'" + mesh + "' --size '0 - 1' -o '" + out + "'", &status);
@@ -376,4 +378,28 @@ TEST_CASE("anisurf adapt --threads: regions in the report, the same output twice
     CHECK(status == 2);
   }
   CHECK(!std::filesystem::exists(dir / "bad.mesh"));
+}
+
+TEST_CASE("anisurf adapt --repair-quality: the final passes' repairs, on by default, off with 0") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/sphere20k.mesh");
+  const auto dir = test::temp_dir("adapt_repair");
+  auto run = [&](const std::string& name, const std::string& option) {
+    const std::string out = (dir / (name + ".mesh")).string(), report = (dir / (name + ".json")).string();
+    int status = -1;
+    adapt("'" + mesh + "' --size 0.02 --threads 2 " + option + " --report '" + report + "' -o '" + out + "'", &status);
+    REQUIRE(status == 0);
+    std::ifstream f(report);
+    const nlohmann::json j = nlohmann::json::parse(f);
+    int repairs = 0;
+    for (const auto& p : j["passes"])
+      if (p["pass"] == "final") repairs += p["collapses"].get<int>();
+    CHECK(load_mesh(out).validate().ok());
+    return std::make_pair(repairs, j["final"]["q_min"].get<double>());
+  };
+  const auto [repairs, q_min] = run("default", "");
+  const auto [none, q_min_off] = run("off", "--repair-quality 0");
+  MESSAGE("final-pass repairs " << repairs << ", q min " << q_min_off << " -> " << q_min);
+  CHECK(repairs > 0);
+  CHECK(none == 0);
+  CHECK(q_min >= q_min_off);
 }

@@ -113,7 +113,11 @@ const char* kAdaptHelp =
     "                       narrower than the size), the triangle turned farthest\n"
     "                       from the input is split towards the crease, onto the\n"
     "                       input (default 0.6; 0: off)\n"
-    "  --strip-width W      needles that no operator avoids do not hold back the\n"
+    "  --repair-quality Q   the final pass removes a vertex of a triangle of quality\n"
+    "                       below Q into a neighbour where the triangles replacing\n"
+    "                       its fan are better (a vertex squeezed between others,\n"
+    "                       its edges at lmin; default 0.8; 0: off)\n"
+  "  --strip-width W      needles that no operator avoids do not hold back the\n"
     "                       collapses and moves near them: triangles across a strip\n"
     "                       between feature curves narrower than W in the metric (a\n"
     "                       blunt trailing edge, the side of a thin plate: one layer\n"
@@ -248,6 +252,7 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
   o.remesh.op.max_curve_turn_deg = p.option_double("--curve-turn", o.remesh.op.max_curve_turn_deg);
   o.remesh.op.curve_sag = p.option_double("--curve-sag", o.remesh.op.curve_sag);
   o.remesh.crease_keep = p.option_double("--crease-keep", o.remesh.crease_keep);
+  o.remesh.repair_quality = p.option_double("--repair-quality", o.remesh.repair_quality);
   o.remesh.op.strip_width = p.option_double("--strip-width", o.remesh.op.strip_width);
   if (p.flag("--free-surface")) o.input_bound.enabled = false;
   o.remesh.max_rounds = int_option(p, "--iterations", o.remesh.max_rounds, 1, "a number of rounds >= 1");
@@ -300,6 +305,8 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
     throw UsageError{"--curve-turn and --curve-sag expect numbers > 0"};
   if (!(o.remesh.crease_keep >= 0) || !(o.remesh.crease_keep <= 1))
     throw UsageError{"--crease-keep expects a share in [0, 1] (0: off)"};
+  if (!(o.remesh.repair_quality >= 0) || !(o.remesh.repair_quality <= 1))
+    throw UsageError{"--repair-quality expects a quality in [0, 1] (0: off)"};
   if (!(o.remesh.op.strip_width >= 0)) throw UsageError{"--strip-width expects a metric length >= 0 (0: off)"};
   if (!(o.fixed_point >= 0)) throw UsageError{"--fixed-point expects a share >= 0"};
   if (length == "log")

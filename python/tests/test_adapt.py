@@ -232,3 +232,18 @@ def test_strip_width_lets_the_ridges_of_a_thin_plate_coarsen():
     assert off.lengths["in_band_pct"] < default.lengths["in_band_pct"] - 20
     with pytest.raises(ValueError, match="strip_width"):
         anisurf.adapt(vertices, triangles, size=0.1, strip_width=-1)
+
+
+def test_repair_quality_keyword_as_the_command_line_option():
+    vertices, triangles = icosphere(4)
+    default = anisurf.adapt(vertices, triangles, size=0.02, threads=2)
+    off = anisurf.adapt(vertices, triangles, size=0.02, threads=2, repair_quality=0)
+
+    def final_collapses(r):
+        return sum(p["collapses"] for rep in r.reports for p in rep["passes"] if p["pass"] == "final")
+
+    assert final_collapses(off) == 0
+    assert final_collapses(default) > 0
+    assert default.quality["q_min"] >= off.quality["q_min"]
+    with pytest.raises(ValueError, match="repair_quality"):
+        anisurf.adapt(vertices, triangles, size=0.1, repair_quality=1.5)
