@@ -736,23 +736,35 @@ CollapsePlan can_collapse(AdaptedMesh& m, Corner c, const OperatorOptions& o, do
   return out;
 }
 
+namespace {
+
+// The neighbours a vertex of kind kv may be removed into, the nearest in
+// the metric first: along its curve for a curve vertex, else its ring.
+std::vector<Vertex> removal_targets(const AdaptedMesh& m, Vertex v, VertexKind kv) {
+  const SurfaceMesh& mesh = m.mesh();
+  std::vector<std::pair<double, Vertex>> by_length;
+  if (kv == VertexKind::Curve) {
+    for (const FeatureEdgeAt& f : feature_edges_at(mesh, v)) by_length.push_back({m.length(v, f.other), f.other});
+  } else {
+    for (Vertex w : mesh.ring_vertices(v)) by_length.push_back({m.length(v, w), w});
+  }
+  std::sort(by_length.begin(), by_length.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::vector<Vertex> out;
+  out.reserve(by_length.size());
+  for (const auto& [length, w] : by_length) out.push_back(w);
+  return out;
+}
+
+}  // namespace
+
 CollapsePlan can_remove_vertex(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
   const SurfaceMesh& mesh = m.mesh();
   CollapsePlan out;
   const VertexKind kv = m.kind(v);
   out.why = Rejection::Fixed;
   if (kv == VertexKind::Fixed) return out;
-  std::vector<Vertex> cands;
-  if (kv == VertexKind::Curve) {
-    for (const FeatureEdgeAt& f : feature_edges_at(mesh, v)) cands.push_back(f.other);
-  } else {
-    cands = one_ring(mesh, v);
-  }
-  std::vector<std::pair<double, Vertex>> by_length;
-  for (Vertex w : cands) by_length.push_back({m.length(v, w), w});
-  std::sort(by_length.begin(), by_length.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-  for (const auto& [len, w] : by_length) {
-    (void)len;
+  const std::vector<Vertex> into = removal_targets(m, v, kv);
+  for (Vertex w : into) {
     // The corner of the edge with v as edge_from, or (boundary edge w -> v)
     // the one with w as edge_from: collapse() then moves v's data to the slot.
     Corner c = find_edge_corner(mesh, v, w);
@@ -780,19 +792,10 @@ CollapsePlan can_collapse_for_quality(AdaptedMesh& m, Vertex v, const OperatorOp
   if (kv == VertexKind::Fixed) return out;
   double fan_v = 1;
   for (Corner x : mesh.fan_corners(v)) fan_v = std::min(fan_v, m.quality(M::triangle(x)));
-  std::vector<Vertex> cands;
-  if (kv == VertexKind::Curve) {
-    for (const FeatureEdgeAt& f : feature_edges_at(mesh, v)) cands.push_back(f.other);
-  } else {
-    cands = one_ring(mesh, v);
-  }
-  std::vector<std::pair<double, Vertex>> by_length;
-  for (Vertex w : cands) by_length.push_back({m.length(v, w), w});
-  std::sort(by_length.begin(), by_length.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  const std::vector<Vertex> into = removal_targets(m, v, kv);
   OperatorOptions judged_here = o;
   judged_here.collapse_quality = 0;  // the quality is compared below, with the triangles replaced
-  for (const auto& [len, w] : by_length) {
-    (void)len;
+  for (Vertex w : into) {
     const Corner c = find_edge_corner(mesh, v, w);
     if (!c.is_valid()) continue;
     if (!anisurf::can_collapse(mesh, c)) {
