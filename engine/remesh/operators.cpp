@@ -661,6 +661,22 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
 
 }  // namespace
 
+namespace {
+
+// The plan of a collapse that passed its checks.
+CollapsePlan accepted_collapse(Corner edge, Vertex removed, Vertex kept, const Placement& at, bool moves) {
+  CollapsePlan p;
+  p.why = Rejection::None;
+  p.edge = edge;
+  p.removed = removed;
+  p.kept = kept;
+  p.at = at;
+  p.moves = moves;
+  return p;
+}
+
+}  // namespace
+
 CollapsePlan can_collapse(AdaptedMesh& m, Corner c, const OperatorOptions& o, double length) {
   const SurfaceMesh& mesh = m.mesh();
   const Vertex p = mesh.edge_from(c), q = mesh.edge_to(c);
@@ -723,14 +739,7 @@ CollapsePlan can_collapse(AdaptedMesh& m, Corner c, const OperatorOptions& o, do
       at = m.current(op.kept);
     }
     last = check_collapse(m, c, op.removed, op.kept, at, op.moves, op.kr, op.kk, o, fan_quality, true);
-    if (last == Rejection::None) {
-      out.why = Rejection::None;
-      out.removed = op.removed;
-      out.kept = op.kept;
-      out.at = at;
-      out.moves = op.moves;
-      return out;
-    }
+    if (last == Rejection::None) return accepted_collapse(c, op.removed, op.kept, at, op.moves);
   }
   out.why = last;
   return out;
@@ -772,14 +781,7 @@ CollapsePlan can_remove_vertex(AdaptedMesh& m, Vertex v, const OperatorOptions& 
     const Placement at = m.current(w);
     FanQuality fan_quality;
     out.why = check_collapse(m, c, v, w, at, false, kv, m.kind(w), o, fan_quality);
-    if (out.why == Rejection::None) {
-      out.edge = c;
-      out.removed = v;
-      out.kept = w;
-      out.at = at;
-      out.moves = false;
-      return out;
-    }
+    if (out.why == Rejection::None) return accepted_collapse(c, v, w, at, false);
   }
   return out;
 }
@@ -814,13 +816,7 @@ CollapsePlan can_collapse_for_quality(AdaptedMesh& m, Vertex v, const OperatorOp
       Rejection why = check_collapse(m, c, v, w, at, moves, kv, kw, judged_here, unused, true, &after);
       if (why == Rejection::None && !(after > gain * before)) why = Rejection::Quality;
       out.why = why;
-      if (why != Rejection::None) continue;
-      out.edge = c;
-      out.removed = v;
-      out.kept = w;
-      out.at = at;
-      out.moves = moves;
-      return out;
+      if (why == Rejection::None) return accepted_collapse(c, v, w, at, moves);
     }
   }
   return out;
