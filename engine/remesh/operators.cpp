@@ -795,8 +795,7 @@ CollapsePlan can_collapse_for_quality(AdaptedMesh& m, Vertex v, const OperatorOp
   double fan_v = 1;
   for (Corner x : mesh.fan_corners(v)) fan_v = std::min(fan_v, m.quality(M::triangle(x)));
   const std::vector<Vertex> into = removal_targets(m, v, kv);
-  OperatorOptions judged_here = o;
-  judged_here.collapse_quality = 0;  // the quality is compared below, with the triangles replaced
+  OperatorOptions judged_here = o;  // its quality threshold: the triangles replaced
   for (Vertex w : into) {
     const Corner c = find_edge_corner(mesh, v, w);
     if (!c.is_valid()) continue;
@@ -811,9 +810,13 @@ CollapsePlan can_collapse_for_quality(AdaptedMesh& m, Vertex v, const OperatorOp
       double before = fan_v;
       if (moves)
         for (Corner x : mesh.fan_corners(w)) before = std::min(before, m.quality(M::triangle(x)));
-      FanQuality unused;
+      // check_collapse refuses a new triangle below gain x before as it
+      // meets it, before its costlier tests (lengths, the sag's projections).
+      judged_here.collapse_quality = gain * before;
+      FanQuality threshold;
+      threshold.value = gain * before;
       double after = 0;
-      Rejection why = check_collapse(m, c, v, w, at, moves, kv, kw, judged_here, unused, true, &after);
+      Rejection why = check_collapse(m, c, v, w, at, moves, kv, kw, judged_here, threshold, true, &after);
       if (why == Rejection::None && !(after > gain * before)) why = Rejection::Quality;
       out.why = why;
       if (why == Rejection::None) return accepted_collapse(c, v, w, at, moves);

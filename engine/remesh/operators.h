@@ -209,7 +209,8 @@ CollapsePlan can_remove_vertex(AdaptedMesh& m, Vertex v, const OperatorOptions& 
 // neighbour (the shortest edge first; along its curve for a curve vertex),
 // which stays or, for ends alike, moves to the midpoint, when the worst
 // quality of the new triangles exceeds `gain` times the worst of those they
-// replace. The other filters of can_collapse, the quality excepted.
+// replace (a needle the features force counting as in can_collapse:
+// OperatorOptions::strip_width). The other filters of can_collapse.
 CollapsePlan can_collapse_for_quality(AdaptedMesh& m, Vertex v, const OperatorOptions& o, double gain);
 
 // --- edge swap (section 5.4) --------------------------------------------------
