@@ -117,7 +117,7 @@ const char* kAdaptHelp =
     "                       below Q into a neighbour where the triangles replacing\n"
     "                       its fan are better (a vertex squeezed between others,\n"
     "                       its edges at lmin; default 0.8; 0: off)\n"
-  "  --strip-width W      needles that no operator avoids do not hold back the\n"
+    "  --strip-width W      needles that no operator avoids do not hold back the\n"
     "                       collapses and moves near them: triangles across a strip\n"
     "                       between feature curves narrower than W in the metric (a\n"
     "                       blunt trailing edge, the side of a thin plate: one layer\n"

@@ -659,9 +659,22 @@ Rejection check_collapse(AdaptedMesh& m, Corner c, Vertex r, Vertex k, const Pla
   return Rejection::None;
 }
 
-}  // namespace
-
-namespace {
+// The neighbours a vertex of kind kv may be removed into, the nearest in
+// the metric first: along its curve for a curve vertex, else its ring.
+std::vector<Vertex> removal_targets(const AdaptedMesh& m, Vertex v, VertexKind kv) {
+  const SurfaceMesh& mesh = m.mesh();
+  std::vector<std::pair<double, Vertex>> by_length;
+  if (kv == VertexKind::Curve) {
+    for (const FeatureEdgeAt& f : feature_edges_at(mesh, v)) by_length.push_back({m.length(v, f.other), f.other});
+  } else {
+    for (Vertex w : mesh.ring_vertices(v)) by_length.push_back({m.length(v, w), w});
+  }
+  std::sort(by_length.begin(), by_length.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::vector<Vertex> out;
+  out.reserve(by_length.size());
+  for (const auto& [length, w] : by_length) out.push_back(w);
+  return out;
+}
 
 // The plan of a collapse that passed its checks.
 CollapsePlan accepted_collapse(Corner edge, Vertex removed, Vertex kept, const Placement& at, bool moves) {
@@ -744,27 +757,6 @@ CollapsePlan can_collapse(AdaptedMesh& m, Corner c, const OperatorOptions& o, do
   out.why = last;
   return out;
 }
-
-namespace {
-
-// The neighbours a vertex of kind kv may be removed into, the nearest in
-// the metric first: along its curve for a curve vertex, else its ring.
-std::vector<Vertex> removal_targets(const AdaptedMesh& m, Vertex v, VertexKind kv) {
-  const SurfaceMesh& mesh = m.mesh();
-  std::vector<std::pair<double, Vertex>> by_length;
-  if (kv == VertexKind::Curve) {
-    for (const FeatureEdgeAt& f : feature_edges_at(mesh, v)) by_length.push_back({m.length(v, f.other), f.other});
-  } else {
-    for (Vertex w : mesh.ring_vertices(v)) by_length.push_back({m.length(v, w), w});
-  }
-  std::sort(by_length.begin(), by_length.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-  std::vector<Vertex> out;
-  out.reserve(by_length.size());
-  for (const auto& [length, w] : by_length) out.push_back(w);
-  return out;
-}
-
-}  // namespace
 
 CollapsePlan can_remove_vertex(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
   const SurfaceMesh& mesh = m.mesh();

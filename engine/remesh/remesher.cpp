@@ -7,6 +7,7 @@
 #include <limits>
 #include <new>
 #include <stdexcept>
+#include <utility>
 
 #include "geometry/features.h"
 #include "geometry/parallel_chunks.h"
@@ -558,20 +559,19 @@ void Remesher::final_pass(PassReport& r) {
   if (options_.valence_swaps) valence_swaps(r);
   // 2: the vertices are barycentred (section 5.5) 8-10 times.
   mark_all();
-  for (int p = 0; p < options_.final_smoothing_passes && !r.interrupted; ++p) {
-    const int before = r.moves;
-    smooth_pass(r, p < options_.final_full_passes ? INFINITY : options_.final_visit_quality, options_.final_keeps_lmin);
-    if (r.moves == before) break;
-  }
-  if (!r.interrupted && options_.repair_quality > 0 && repair_poor_fans(r) > 0) {
-    for (int p = 0; p < options_.final_smoothing_passes && !r.interrupted; ++p) {
-      const int before = r.moves;
-      smooth_pass(r, options_.final_visit_quality, options_.final_keeps_lmin);
-      if (r.moves == before) break;
-    }
-  }
+  final_smoothing(r, options_.final_full_passes);
+  // The repairs' neighbourhoods are smoothed again (repair_poor_fans marks them alone).
+  if (!r.interrupted && options_.repair_quality > 0 && repair_poor_fans(r) > 0) final_smoothing(r, 0);
   if (!r.interrupted) bound_distance(r);
   if (!r.interrupted) keep_creases(r);
+}
+
+void Remesher::final_smoothing(PassReport& r, int full_passes) {
+  for (int p = 0; p < options_.final_smoothing_passes && !r.interrupted; ++p) {
+    const int before = r.moves;
+    smooth_pass(r, p < full_passes ? INFINITY : options_.final_visit_quality, options_.final_keeps_lmin);
+    if (r.moves == before) break;
+  }
 }
 
 int Remesher::repair_poor_fans(PassReport& r) {
@@ -584,14 +584,15 @@ int Remesher::repair_poor_fans(PassReport& r) {
       for (int k = 0; k < 3; ++k) poor.push_back({q, mesh.vertex(t, k).idx});
   }
   std::sort(poor.begin(), poor.end());
-  std::vector<std::uint8_t> done(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
+  // Each vertex tried once (collapses free slots, they add none); the next
+  // smoothing visits the repairs' neighbourhoods only.
+  std::vector<std::uint8_t> tried(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
   smooth_active_.assign(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
   int removed = 0;
   for (const auto& [q, i] : poor) {
     const Vertex v(i);
     if (interrupted(r)) break;
-    if (static_cast<std::size_t>(i) < done.size() && done[static_cast<std::size_t>(i)]) continue;
-    if (static_cast<std::size_t>(i) < done.size()) done[static_cast<std::size_t>(i)] = 1;
+    if (std::exchange(tried[static_cast<std::size_t>(i)], std::uint8_t{1})) continue;
     if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
     const CollapsePlan plan = can_collapse_for_quality(mesh_, v, options_.op, options_.repair_gain);
     if (plan.why != Rejection::None) {

@@ -357,6 +357,10 @@ class Remesher {
   // `keep_lmin`: OperatorOptions::move_keeps_lmin.
   void smooth_pass(PassReport& r, double visit_below = INFINITY, bool keep_lmin = false);
   void final_pass(PassReport& r);
+  // The final pass's smoothing passes over the marked vertices (section 6,
+  // "8-10 times"): the first full_passes visit them all, the others those
+  // with a triangle below final_visit_quality in their fan; until one moves nothing.
+  void final_smoothing(PassReport& r, int full_passes);
   // The final pass's repair (RemeshOptions::repair_quality); returns the
   // count of vertices removed.
   int repair_poor_fans(PassReport& r);
