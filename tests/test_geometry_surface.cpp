@@ -206,6 +206,36 @@ TEST_CASE("surface: derivatives match finite differences in every subtriangle") 
   CHECK(worst < 1e-6);
 }
 
+TEST_CASE("surface: flat_deviation bounds the distance of every patch point from its flat triangle, and is reached") {
+  // A coarse sphere (curved patches) and the cube (flat faces, ridges).
+  for (const Built& b : {reconstruct(test::build(test::icosphere(1))), reconstruct(test::build(test::cube()))}) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    double largest_bound = 0;
+    for (Triangle t : b.mesh.triangles()) {
+      const int* v = b.mesh.triangle_vertices(t);
+      const std::array<Vec3, 3> x = {b.mesh.position(Vertex(v[0])), b.mesh.position(Vertex(v[1])),
+                                     b.mesh.position(Vertex(v[2]))};
+      const double dev = b.surface.flat_deviation(t, x);
+      largest_bound = std::max(largest_bound, dev);
+      double seen = 0;
+      for (int i = 0; i < 400; ++i) {
+        double p = U(rng), q = U(rng);
+        if (p + q > 1) p = 1 - p, q = 1 - q;
+        const Bary bc{1 - p - q, p, q};
+        const Vec3 flat = bc[0] * x[0] + bc[1] * x[1] + bc[2] * x[2];
+        seen = std::max(seen, norm(b.surface.position(t, bc) - flat));
+      }
+      CHECK(seen <= dev);
+      // A bound, not far above what the patch reaches (the control net of a
+      // smooth patch stays close to it).
+      CHECK(dev <= 4 * seen + 1e-12);
+    }
+    if (b.mesh.n_triangles() == 12) CHECK(largest_bound < 1e-12);  // the cube's flat faces
+    if (b.mesh.n_triangles() != 12) CHECK(largest_bound > 1e-3);
+  }
+}
+
 TEST_CASE("surface: on icospheres the distance to the sphere falls at third order or better") {
   std::vector<double> err, h;
   for (int level = 1; level <= 4; ++level) {

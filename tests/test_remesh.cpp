@@ -1012,6 +1012,39 @@ TEST_CASE("placed_position: place()'s position, with and without the pull toward
   CHECK(free_points > 100);
 }
 
+TEST_CASE("placed_within: the sag test's shortcut agrees with the placed point, within the input bound") {
+  // The demo's coarse icosphere on its G1 surface, points about the vertices
+  // and tolerances around their distance to the surface: placed_within
+  // settles most of them by the surface's deviation from the facets alone.
+  auto s = make_setup(test::asset_file("demo.mesh"), "", 0.1, true);
+  AdaptedMesh& a = *s->adapted;
+  const SurfaceMesh& m = a.mesh();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.1, 0.1), f(0.2, 2.0);
+  int agree_in = 0, agree_out = 0, only_fast = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Vertex v(std::uniform_int_distribution<int>(0, m.vertex_capacity() - 1)(rng));
+    if (m.is_deleted(v) || m.is_isolated(v) || a.kind(v) != VertexKind::Free) continue;
+    const Vec3 x = m.position(v) + Vec3(u(rng), u(rng), u(rng));
+    const double placed = norm(a.placed_position(x, VertexKind::Free, {v}) - x);
+    const double tol = f(rng) * placed;
+    const bool exact = placed <= tol;
+    const bool fast = a.placed_within(x, VertexKind::Free, {v}, tol);
+    // Never refused where the placed point is within tol; accepted
+    // otherwise only for a surface point within tol (on another triangle),
+    // so with the input within tol.
+    CHECK((!exact || fast));
+    if (fast && !exact) {
+      ++only_fast;
+      CHECK(a.distance_to_input(x, {v}).distance <= tol);
+    }
+    (exact ? agree_in : agree_out) += exact == fast ? 1 : 0;
+  }
+  MESSAGE("within tol " << agree_in << ", beyond " << agree_out << ", accepted by another triangle " << only_fast);
+  CHECK(agree_in > 500);
+  CHECK(agree_out > 500);
+}
+
 namespace {
 
 // The fandisk's ungraded curvature metric at hausd 1e-3 of its diagonal, on

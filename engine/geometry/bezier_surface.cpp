@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "geometry/features.h"
 #include "geometry/parallel_chunks.h"
@@ -450,6 +451,26 @@ BezierSurface::Patch BezierSurface::patch(Triangle t) const {
     for (int i = 0; i < kDerivedPoints; ++i) P[kDerivedIdx[i]] = derived_[m.derived][i];
   }
   return P;
+}
+
+double BezierSurface::flat_deviation(Triangle t, const std::array<Vec3, 3>& corners) const {
+  const Patch P = patch(t);
+  const Vec3 centre = (corners[0] + corners[1] + corners[2]) / 3.0;
+  double worst2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3& A = corners[(k + 1) % 3];
+    const Vec3& B = corners[(k + 2) % 3];
+    for (int l = 0; l <= 4; ++l)
+      for (int j = 0; j <= 4 - l; ++j) {
+        const int i = 4 - j - l;
+        const Vec3 flat = (i * A + j * B + l * centre) * 0.25;
+        worst2 = std::max(worst2, norm2(P[global_index(k, i, j, l)] - flat));
+      }
+  }
+  // Plus the rounding of an evaluation (de Casteljau's convex combinations
+  // at the corners' magnitude).
+  const double magnitude = std::max({norm(corners[0]), norm(corners[1]), norm(corners[2])});
+  return std::sqrt(worst2) + 64 * std::numeric_limits<double>::epsilon() * magnitude;
 }
 
 Vec3 BezierSurface::position(Triangle t, const Bary& b) const {

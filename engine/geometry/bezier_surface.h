@@ -86,6 +86,13 @@ class BezierSurface {
   // and 28 + k the inner points of subtriangle k (vertices k+1, k+2, centre).
   // Assembled from the stored data (see below), bitwise as built.
   Patch patch(Triangle t) const;
+  // A bound of |S(b) - F(b)| over triangle t, F the flat triangle with
+  // corners `corners` (t's vertices, in t's order): the largest distance of a
+  // control point from its domain point on F (each subpatch and its flat part
+  // are Bezier triangles of the same degree over the same parameters, and a
+  // Bezier point is a convex combination of its control points), plus the
+  // rounding of an evaluation.
+  double flat_deviation(Triangle t, const std::array<Vec3, 3>& corners) const;
   // Number of triangle slots covered (the mesh's triangle capacity).
   int size() const { return static_cast<int>(macro_.size()); }
 

@@ -487,6 +487,10 @@ bool Locator::within(const Vec3& x, double tol, std::span<const Hint> hints) {
   return r.is_valid() && norm(r.point - x) <= tol;
 }
 
+Location Locator::first_within(const Vec3& x, double tol, std::span<const Hint> hints) {
+  return project_free(x, hints, tol * tol * (1 - 1e-9));
+}
+
 Location Locator::project_free(const Vec3& x, std::span<const Hint> hints, double accept2) {
   const Data& D = *d_;
   next_stamp();

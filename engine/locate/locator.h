@@ -71,6 +71,10 @@ class Locator {
   // norm(project(x, hints).point - x) <= tol, cut short by the first
   // triangle the descent finds clearly within tol.
   bool within(const Vec3& x, double tol, std::span<const Hint> hints = {});
+  // The first triangle the descent finds within tol of x (a free location
+  // closer than tol, not always the closest), or else the closest location,
+  // as project() gives it.
+  Location first_within(const Vec3& x, double tol, std::span<const Hint> hints = {});
 
   const SurfaceMesh& mesh() const;
   const LocateOptions& options() const;

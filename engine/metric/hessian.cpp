@@ -738,7 +738,7 @@ SectorCurvatures recover_sector_curvature(const SurfaceMesh& mesh, const Hessian
   for (Corner c : mesh.edges())
     if (is_feature_edge(mesh, c)) out.on_feature[mesh.edge_from(c).idx] = out.on_feature[mesh.edge_to(c).idx] = 1;
   const std::vector<char> near = within_rings_of_features(mesh, out.on_feature, 3);
-  const int chunks = chunk_count(nv, 4096);
+  const int chunks = chunk_count(nv, 512);
   std::vector<SectorChunk> parts(static_cast<std::size_t>(chunks));
   run_chunks(nv, chunks, [&](int c, int begin, int end) {
     parts[static_cast<std::size_t>(c)] = fit_sectors(mesh, options, out.on_feature, near, begin, end);

@@ -205,11 +205,37 @@ Vec3 AdaptedMesh::placed_position(const Vec3& x, VertexKind kind, std::initializ
 }
 
 bool AdaptedMesh::placed_within(const Vec3& x, VertexKind kind, std::initializer_list<Vertex> near, double tol) {
-  if (kind != VertexKind::Free || !geometry_.projects_onto_input())
-    return norm(placed_position(x, kind, near) - x) <= tol;
+  if (kind != VertexKind::Free) return norm(placed_position(x, kind, near) - x) <= tol;
   std::array<Hint, 8> hg{};
-  const std::size_t n = hints_of(std::span<const Vertex>(near.begin(), near.size()), hg, nullptr);
-  return geometry_.input_within(x, tol, std::span<const Hint>(hg.data(), n));
+  std::array<Hint, 8> h0{};
+  const std::size_t n = hints_of(std::span<const Vertex>(near.begin(), near.size()), hg, &h0);
+  const std::span<const Hint> hints(hg.data(), n);
+  if (geometry_.projects_onto_input()) return geometry_.input_within(x, tol, hints);
+  // On the G1 surface: a surface point within tol settles it, found from the
+  // first triangle of T_G within tol (its point c', the surface point at the
+  // same location within the deviation bound of c').
+  // Without a bound (the Closest projection) the placed point decides.
+  Location c = geometry_.first_on_input_within(x, tol, hints);
+  const double first_dev = c.is_valid() ? geometry_.deviation_bound(c.triangle) : INFINITY;
+  if (!std::isfinite(first_dev)) return norm(placed_position(x, kind, near) - x) <= tol;
+  if (norm(c.point - x) < tol) {
+    if (norm(c.point - x) + first_dev <= tol * (1 - 1e-9)) return true;
+    c = geometry_.closest_on_input(x, hints);
+  }
+  // Else the placed point: it lies between the surface point S at x's
+  // closest location c on T_G and c itself (pull_towards_input), |S - c| <=
+  // dev, so within |c - x| + dev of x and no closer than |c - x| - dev:
+  // only a test between the two evaluates the surface (margins for the
+  // rounding).
+  const double dev = c.is_valid() ? geometry_.deviation_bound(c.triangle) : INFINITY;
+  if (!std::isfinite(dev)) return norm(placed_position(x, kind, near) - x) <= tol;
+  const double d = norm(c.point - x);
+  if (d + dev <= tol * (1 - 1e-9)) return true;
+  if (d - dev > tol * (1 + 1e-9)) return false;
+  const Projection pr = geometry_.at(c);
+  if (!bound_.enabled || !(norm(pr.point - c.point) > least_input_tolerance(c.triangle)))
+    return norm(pr.point - x) <= tol;
+  return norm(placement_at(x, kind, pr, h0, n).position - x) <= tol;
 }
 
 std::size_t AdaptedMesh::hints_of(std::span<const Vertex> near, std::array<Hint, 8>& hg,

@@ -3,6 +3,7 @@
 #include "metric/surface_metric.h"
 
 #include <cassert>
+#include <cmath>
 
 #include "geometry/normals.h"
 #include "geometry/parallel_chunks.h"
@@ -37,7 +38,24 @@ BezierGeometry::BezierGeometry(const SurfaceMesh& mesh, Mode mode, Locator locat
 }
 
 BezierGeometry::BezierGeometry(std::shared_ptr<const BezierSurface> surface, Mode mode, Locator locator)
-    : surface_(std::move(surface)), locator_(std::move(locator)), mode_(mode) {}
+    : surface_(std::move(surface)),
+      locator_(std::move(locator)),
+      mode_(mode),
+      deviation_(std::make_shared<std::vector<std::atomic<float>>>(static_cast<std::size_t>(surface_->size()))) {}
+
+double BezierGeometry::deviation_bound(Triangle t) {
+  if (mode_ != Mode::Parametric || !t.is_valid() || t.idx >= surface_->size()) return INFINITY;
+  std::atomic<float>& slot = (*deviation_)[static_cast<std::size_t>(t.idx)];
+  if (const float known = slot.load(std::memory_order_relaxed); known > 0) return known;
+  const SurfaceMesh& g = mesh();
+  const int* v = g.triangle_vertices(t);
+  const double d =
+      surface_->flat_deviation(t, {g.position(Vertex(v[0])), g.position(Vertex(v[1])), g.position(Vertex(v[2]))});
+  if (!(d >= 0)) return INFINITY;
+  const float up = std::nextafter(static_cast<float>(d), INFINITY);
+  slot.store(up, std::memory_order_relaxed);
+  return up;
+}
 
 Projection PolyhedralSurface::at(const Location& where) const {
   Projection p;

@@ -10,6 +10,7 @@
 // Both keep one search structure each (section 4) and answer from hints.
 #pragma once
 #include <array>
+#include <atomic>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -50,9 +51,18 @@ class GeometrySurface {
   bool input_within(const Vec3& x, double tol, std::span<const Hint> hints) {
     return locator().within(x, tol, hints);
   }
+  // A location of T_G's triangles within tol of x, else the closest
+  // (Locator::first_within).
+  Location first_on_input_within(const Vec3& x, double tol, std::span<const Hint> hints) {
+    return locator().first_within(x, tol, hints);
+  }
   // Whether a free projection's point is the closest point of T_G's
   // triangles (the surface is T_G itself).
   virtual bool projects_onto_input() const { return false; }
+  // A bound of the distance from the surface point at a location on triangle
+  // t of T_G (at()) to that location's point on t; infinite where the free
+  // projection does not take the surface at the polyhedral location.
+  virtual double deviation_bound(Triangle t) = 0;
   // The surface point at a location on T_G (a point of its triangles, as a
   // projection gives), with the unit normal there: a vertex of T_G is its own
   // surface point.
@@ -85,6 +95,7 @@ class PolyhedralSurface final : public GeometrySurface {
   const SurfaceMesh& mesh() const override { return locator_.mesh(); }
   std::string name() const override { return "polyhedral"; }
   bool projects_onto_input() const override { return true; }
+  double deviation_bound(Triangle) override { return 0; }
   double clearance(Vertex v) const override { return locator_.clearance(v); }
   std::unique_ptr<GeometrySurface> copy_for_thread() const override {
     return std::make_unique<PolyhedralSurface>(*this);
@@ -116,6 +127,8 @@ class BezierGeometry final : public GeometrySurface {
   Projection at(const Location& where) const override;
   const SurfaceMesh& mesh() const override { return locator_.mesh(); }
   std::string name() const override { return "g1-bezier"; }
+  // Parametric: BezierSurface::flat_deviation, found on first use.
+  double deviation_bound(Triangle t) override;
   double clearance(Vertex v) const override { return locator_.clearance(v); }
   std::unique_ptr<GeometrySurface> copy_for_thread() const override {
     return std::unique_ptr<GeometrySurface>(new BezierGeometry(*this));
@@ -134,6 +147,9 @@ class BezierGeometry final : public GeometrySurface {
   // copy its own): the operators' checks project many points near the same
   // few triangles of T_G, and a patch is assembled from its shared parts.
   // Direct-mapped by triangle id; a slot holds its triangle's id + 1 (0: empty).
+  // deviation_bound per triangle slot of T_G, shared with the copies (0: not
+  // found yet; the bound rounded up to a float, positive).
+  std::shared_ptr<std::vector<std::atomic<float>>> deviation_;
   static constexpr int kCachedPatches = 64;
   std::array<int, kCachedPatches> cached_id_plus_one_{};
   std::array<BezierSurface::Patch, kCachedPatches> cached_patch_{};
