@@ -211,15 +211,17 @@ bool AdaptedMesh::placed_within(const Vec3& x, VertexKind kind, std::initializer
   const std::size_t n = hints_of(std::span<const Vertex>(near.begin(), near.size()), hg, &h0);
   const std::span<const Hint> hints(hg.data(), n);
   if (geometry_.projects_onto_input()) return geometry_.input_within(x, tol, hints);
-  // On the G1 surface: a surface point within tol settles it, found from the
-  // first triangle of T_G within tol (its point c', the surface point at the
-  // same location within the deviation bound of c').
+  // On the G1 surface: a surface point within tol settles it, taken at the
+  // location c' of the first triangle of T_G found within tol (within the
+  // deviation bound of c' by the bound alone, else evaluated; a point placed
+  // there, between c' and that surface point, is as close).
   // Without a bound (the Closest projection) the placed point decides.
   Location c = geometry_.first_on_input_within(x, tol, hints);
   const double first_dev = c.is_valid() ? geometry_.deviation_bound(c.triangle) : INFINITY;
   if (!std::isfinite(first_dev)) return norm(placed_position(x, kind, near) - x) <= tol;
   if (norm(c.point - x) < tol) {
     if (norm(c.point - x) + first_dev <= tol * (1 - 1e-9)) return true;
+    if (norm(geometry_.at(c).point - x) <= tol) return true;
     c = geometry_.closest_on_input(x, hints);
   }
   // Else the placed point: it lies between the surface point S at x's

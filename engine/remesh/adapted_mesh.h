@@ -120,8 +120,9 @@ class AdaptedMesh {
   // stops at the first triangle clearly within tol (Locator::within). On the
   // G1 surface a free point is also within tol where a surface point at the
   // location of the first triangle found within tol is (the surface's
-  // deviation bound from that triangle tells, without evaluating it); true
-  // wherever the placed point is within tol, never beyond tol of the input.
+  // deviation bound from that triangle tells, else the surface evaluated
+  // there); true wherever the placed point is within tol, never beyond tol
+  // of the input.
   bool placed_within(const Vec3& x, VertexKind kind, std::initializer_list<Vertex> near, double tol);
   // The placement of v as it is now (no search).
   Placement current(Vertex v) const;
