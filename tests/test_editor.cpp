@@ -788,8 +788,6 @@ TEST_CASE("editor: color fallback in a script, headless: the pulled vertices in 
         std::string::npos);
 }
 
-#endif
-
 TEST_CASE("editor: a .vtu or .msh with its metric inside opens with that metric, and recomputes it from the file") {
   const auto dir = anisurf::test::temp_dir("editor_embedded_metric");
   EditorSession ref;
@@ -886,3 +884,5 @@ TEST_CASE("editor: the size legend follows painted values beyond its range, and 
   CHECK(size_range()[0] == r0[0]);
   CHECK(size_range()[1] == r0[1]);
 }
+
+#endif  // ANISURF_WITH_GL

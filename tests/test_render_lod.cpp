@@ -287,8 +287,6 @@ TEST_CASE("renderer frames: a still picture over the triangle budget is drawn in
   CHECK(frames >= 3);  // at least the three slices
 }
 
-#endif
-
 TEST_CASE("renderer frames: switching between one sample and multisampling keeps each target (no reallocation)") {
   // The editor draws with one sample while a pass runs and with 4 otherwise.
   // A 4-sample 1280x800 target is 33 MB: allocated again at each switch, its
@@ -313,3 +311,5 @@ TEST_CASE("renderer frames: switching between one sample and multisampling keeps
   CHECK(faults < target_pages / 4);
   CHECK(again.rgba == multisampled.rgba);
 }
+
+#endif  // ANISURF_WITH_GL
