@@ -478,12 +478,11 @@ int opposite_local_vertex(TriangleRegion r) {
 }  // namespace
 
 bool Locator::within(const Vec3& x, double tol, std::span<const Hint> hints) {
-  // A triangle found at a squared distance below accept2 settles it: the
+  // The first triangle found within tol (less a rounding margin) settles it: the
   // closest one is at least as close, below tol by more than any rounding of
   // the distance. Otherwise the search runs to its end and the closest
   // point decides, as project() would.
-  const double accept2 = tol * tol * (1 - 1e-9);
-  const Location r = project_free(x, hints, accept2);
+  const Location r = first_within(x, tol, hints);
   return r.is_valid() && norm(r.point - x) <= tol;
 }
 

@@ -196,6 +196,11 @@ Vec3 AdaptedMesh::placed_position(const Vec3& x, VertexKind kind, std::initializ
   std::array<Hint, 8> h0{};
   std::size_t n = 0;
   const Projection pr = project_from(x, kind, std::span<const Vertex>(near.begin(), near.size()), h0, n);
+  return position_placed_at(x, kind, pr, h0, n);
+}
+
+Vec3 AdaptedMesh::position_placed_at(const Vec3& x, VertexKind kind, const Projection& pr,
+                                     const std::array<Hint, 8>& h0, std::size_t n) {
   // pull_towards_input leaves the point where it is when it lies within the
   // least tolerance of its input triangle.
   if (!bound_.enabled || !pr.location.is_valid() ||
@@ -219,8 +224,8 @@ bool AdaptedMesh::placed_within(const Vec3& x, VertexKind kind, std::initializer
   Location c = geometry_.first_on_input_within(x, tol, hints);
   const double first_dev = c.is_valid() ? geometry_.deviation_bound(c.triangle) : INFINITY;
   if (!std::isfinite(first_dev)) return norm(placed_position(x, kind, near) - x) <= tol;
-  if (norm(c.point - x) < tol) {
-    if (norm(c.point - x) + first_dev <= tol * (1 - 1e-9)) return true;
+  if (const double first_d = norm(c.point - x); first_d < tol) {
+    if (first_d + first_dev <= tol * (1 - 1e-9)) return true;
     if (norm(geometry_.at(c).point - x) <= tol) return true;
     c = geometry_.closest_on_input(x, hints);
   }
@@ -234,10 +239,7 @@ bool AdaptedMesh::placed_within(const Vec3& x, VertexKind kind, std::initializer
   const double d = norm(c.point - x);
   if (d + dev <= tol * (1 - 1e-9)) return true;
   if (d - dev > tol * (1 + 1e-9)) return false;
-  const Projection pr = geometry_.at(c);
-  if (!bound_.enabled || !(norm(pr.point - c.point) > least_input_tolerance(c.triangle)))
-    return norm(pr.point - x) <= tol;
-  return norm(placement_at(x, kind, pr, h0, n).position - x) <= tol;
+  return norm(position_placed_at(x, kind, geometry_.at(c), h0, n) - x) <= tol;
 }
 
 std::size_t AdaptedMesh::hints_of(std::span<const Vertex> near, std::array<Hint, 8>& hg,

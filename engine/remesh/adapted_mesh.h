@@ -270,6 +270,10 @@ class AdaptedMesh {
   // The values of place() at the projection pr of x (hints h0, n of them).
   Placement placement_at(const Vec3& x, VertexKind kind, const Projection& pr, const std::array<Hint, 8>& h0,
                          std::size_t n);
+  // placement_at(...).position, T_0 looked up only when the pull may act
+  // (placed_position once projected).
+  Vec3 position_placed_at(const Vec3& x, VertexKind kind, const Projection& pr, const std::array<Hint, 8>& h0,
+                          std::size_t n);
   // A lower bound of input_tolerance(t, M) over every M.
   double least_input_tolerance(Triangle t) const;
 };

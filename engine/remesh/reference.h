@@ -143,13 +143,13 @@ class BezierGeometry final : public GeometrySurface {
   std::shared_ptr<const BezierSurface> surface_;
   Locator locator_;
   Mode mode_;
+  // deviation_bound per triangle slot of T_G, shared with the copies (0: not
+  // found yet; the bound rounded up to a float, positive).
+  std::shared_ptr<std::vector<std::atomic<float>>> deviation_;
   // The control points of the triangles projected onto last (each thread's
   // copy its own): the operators' checks project many points near the same
   // few triangles of T_G, and a patch is assembled from its shared parts.
   // Direct-mapped by triangle id; a slot holds its triangle's id + 1 (0: empty).
-  // deviation_bound per triangle slot of T_G, shared with the copies (0: not
-  // found yet; the bound rounded up to a float, positive).
-  std::shared_ptr<std::vector<std::atomic<float>>> deviation_;
   static constexpr int kCachedPatches = 64;
   std::array<int, kCachedPatches> cached_id_plus_one_{};
   std::array<BezierSurface::Patch, kCachedPatches> cached_patch_{};
