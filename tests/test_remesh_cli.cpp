@@ -104,6 +104,8 @@ TEST_CASE("anisurf adapt: bad command lines exit with 2, bad inputs with 1, noth
   CHECK(status == 2);
   adapt("'" + mesh + "' --size 0.1 --repair-quality 1.5 -o '" + out + "'", &status);
   CHECK(status == 2);
+  adapt("'" + mesh + "' --size 0.1 --relocate-quality -0.5 -o '" + out + "'", &status);
+  CHECK(status == 2);
   adapt("'" + mesh + "' --sol '" + (dir / "missing.sol").string() + "' -o '" + out + "'", &status);
   CHECK(status == 1);
   adapt("'" + mesh + "' --size '0 - 1' -o '" + out + "'", &status);
@@ -396,10 +398,31 @@ TEST_CASE("anisurf adapt --repair-quality: the final passes' repairs, on by defa
     CHECK(load_mesh(out).validate().ok());
     return std::make_pair(repairs, j["final"]["q_min"].get<double>());
   };
-  const auto [repairs, q_min] = run("default", "");
-  const auto [none, q_min_off] = run("off", "--repair-quality 0");
+  // The repair alone (the relocations after it off in both runs).
+  const auto [repairs, q_min] = run("default", "--relocate-quality 0");
+  const auto [none, q_min_off] = run("off", "--repair-quality 0 --relocate-quality 0");
   MESSAGE("final-pass repairs " << repairs << ", q min " << q_min_off << " -> " << q_min);
   CHECK(repairs > 0);
   CHECK(none == 0);
   CHECK(q_min >= q_min_off);
+}
+
+TEST_CASE("anisurf adapt --relocate-quality: the worst triangles' vertices relocated by default, not with 0") {
+  ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/sphere20k.mesh");
+  const auto dir = test::temp_dir("adapt_relocate");
+  auto run = [&](const std::string& name, const std::string& option) {
+    const std::string out = (dir / (name + ".mesh")).string(), report = (dir / (name + ".json")).string();
+    int status = -1;
+    adapt("'" + mesh + "' --size 0.02 --threads 2 " + option + " --report '" + report + "' -o '" + out + "'", &status);
+    REQUIRE(status == 0);
+    std::ifstream f(report);
+    const nlohmann::json j = nlohmann::json::parse(f);
+    CHECK(load_mesh(out).validate().ok());
+    return std::make_pair(j["final"]["q_min"].get<double>(), j["final"]["q_mean"].get<double>());
+  };
+  const auto [q_min, q_mean] = run("default", "");
+  const auto [q_min_off, q_mean_off] = run("off", "--relocate-quality 0");
+  MESSAGE("q min " << q_min_off << " -> " << q_min << ", mean " << q_mean_off << " -> " << q_mean);
+  CHECK(q_min > q_min_off);
+  CHECK(q_mean >= q_mean_off - 1e-5);
 }

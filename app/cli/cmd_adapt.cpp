@@ -117,6 +117,11 @@ const char* kAdaptHelp =
     "                       below Q into a neighbour where the triangles replacing\n"
     "                       its fan are better (a vertex squeezed between others,\n"
     "                       its edges at lmin; default 0.8; 0: off)\n"
+    "  --relocate-quality Q then moves each free vertex of a triangle of quality\n"
+    "                       below Q where the worst triangle of its fan is best\n"
+    "                       (a search in its tangent plane; the fan's summed\n"
+    "                       quality may fall by no more than the worst gains, and\n"
+    "                       no edge below lmin gets shorter; default 0.9; 0: off)\n"
     "  --strip-width W      needles that no operator avoids do not hold back the\n"
     "                       collapses and moves near them: triangles across a strip\n"
     "                       between feature curves narrower than W in the metric (a\n"
@@ -253,6 +258,7 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
   o.remesh.op.curve_sag = p.option_double("--curve-sag", o.remesh.op.curve_sag);
   o.remesh.crease_keep = p.option_double("--crease-keep", o.remesh.crease_keep);
   o.remesh.repair_quality = p.option_double("--repair-quality", o.remesh.repair_quality);
+  o.remesh.relocate_quality = p.option_double("--relocate-quality", o.remesh.relocate_quality);
   o.remesh.op.strip_width = p.option_double("--strip-width", o.remesh.op.strip_width);
   if (p.flag("--free-surface")) o.input_bound.enabled = false;
   o.remesh.max_rounds = int_option(p, "--iterations", o.remesh.max_rounds, 1, "a number of rounds >= 1");
@@ -307,6 +313,8 @@ AdaptCommandLine parse_adapt(const std::vector<std::string>& args) {
     throw UsageError{"--crease-keep expects a share in [0, 1] (0: off)"};
   if (!(o.remesh.repair_quality >= 0) || !(o.remesh.repair_quality <= 1))
     throw UsageError{"--repair-quality expects a quality in [0, 1] (0: off)"};
+  if (!(o.remesh.relocate_quality >= 0) || !(o.remesh.relocate_quality <= 1))
+    throw UsageError{"--relocate-quality expects a quality in [0, 1] (0: off)"};
   if (!(o.remesh.op.strip_width >= 0)) throw UsageError{"--strip-width expects a metric length >= 0 (0: off)"};
   if (!(o.fixed_point >= 0)) throw UsageError{"--fixed-point expects a share >= 0"};
   if (length == "log")

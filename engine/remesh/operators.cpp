@@ -942,19 +942,122 @@ bool moved_edge_sags_off_input(AdaptedMesh& m, Vertex v, const Placement& at, co
 
 }  // namespace
 
+namespace {
+
+// What a move of v is checked against (section 5.5): its ring, its fan's
+// reference normals and degenerate limits, the lengths of its edges and the
+// worst quality of its fan as they are.
+struct MoveCheck {
+  AdaptedMesh& m;
+  Vertex v;
+  VertexKind kind;
+  const OperatorOptions& o;
+  Limits lim;
+  std::vector<Vertex> ring, curve_nbrs;
+  std::vector<Corner> fan;
+  std::vector<Vec3> old_n;
+  std::vector<double> old_limit, old_len;
+  double quality_before = 1;
+  double shortest = INFINITY;
+  // No incident edge shorter than lmin gets shorter (the relocation of
+  // worst elements: it must not trade the lengths of good triangles).
+  bool keeps_short_edges = false;
+
+  MoveCheck(AdaptedMesh& mesh_, Vertex v_, const OperatorOptions& o_)
+      : m(mesh_), v(v_), kind(mesh_.kind(v_)), o(o_), lim(o_) {
+    const SurfaceMesh& mesh = m.mesh();
+    ring = one_ring(mesh, v);
+    if (kind == VertexKind::Curve)
+      for (const FeatureEdgeAt& f : feature_edges_at(mesh, v)) curve_nbrs.push_back(f.other);
+    const Vec3& s = mesh.position(v);
+    for (Vertex w : ring) shortest = std::min(shortest, norm(mesh.position(w) - s));
+    fan = mesh.fan(v);
+    old_n.reserve(fan.size());
+    old_limit.reserve(fan.size());
+    for (Corner x : fan) {
+      const Triangle t = M::triangle(x);
+      old_n.push_back(reference_normal(m, t));
+      old_limit.push_back(degenerate_limit(height_ratio(m.mesh(), t)));
+      const auto current = [&] { return view(m, t, Vertex(), Vertex(), {}); };
+      quality_before = std::min(quality_before, counted_quality(m.quality(t), m, t, current, {}, {}, o));
+    }
+    old_len.reserve(ring.size());
+    for (Vertex w : ring) old_len.push_back(m.length(v, w));
+  }
+  // The neighbours eq. 19 averages: the ring, or the curve's two.
+  const std::vector<Vertex>& neighbours() const { return kind == VertexKind::Curve ? curve_nbrs : ring; }
+
+  // Every filter of a move of v to `at` (placed): validity and normals,
+  // the worst quality at least `least` (a vertex off the surface: valid
+  // only), the lengths, the curve's sag, the input's sag, the surface's
+  // side. `q` gets the worst quality of the fan there.
+  Rejection check(const Placement& at, double least, double& q) const {
+    const SurfaceMesh& mesh = m.mesh();
+    q = 1;
+    Rejection last = Rejection::None;
+    for (std::size_t i = 0; i < fan.size() && last == Rejection::None; ++i) {
+      const TriangleView tv = view(m, M::triangle(fan[i]), v, Vertex(), at);
+      last = check_triangle(tv.x[0], tv.x[1], tv.x[2], old_n[i], tv.n, lim, false, old_limit[i]);
+      q = std::min(q, counted_quality(m.quality(tv.x, tv.M), m, M::triangle(fan[i]), [&] { return tv; }, {}, {}, o));
+      // q only falls with the rest of the fan: the test is made as it goes.
+      if (last == Rejection::None && ((m.on_surface(v) && !(q >= least)) || q <= 0)) last = Rejection::Quality;
+    }
+    if (last != Rejection::None) return last;
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+      const Vertex w = ring[i];
+      const double l_new = m.length(at.position, at.values.metric, mesh.position(w), m.metric(w));
+      if (l_new > o.lmax && l_new > old_len[i]) return Rejection::Length;
+      if (o.move_keeps_lmin && quality_before >= o.keep_lmin_quality && l_new < o.lmin && old_len[i] >= o.lmin)
+        return Rejection::Length;
+      if (keeps_short_edges && l_new < o.lmin && l_new < old_len[i]) return Rejection::Length;
+    }
+    if (kind == VertexKind::Curve)
+      for (Vertex w : curve_nbrs)
+        if (!curve_sag_ok(m, at, w, o)) return Rejection::Tangent;
+    if (m.on_surface(v) && moved_edge_sags_off_input(m, v, at, ring, o)) return Rejection::Deviation;
+    for (std::size_t i = 0; i < fan.size() && last == Rejection::None; ++i) {
+      const TriangleView tv = view(m, M::triangle(fan[i]), v, Vertex(), at);
+      last = check_surface_side(m, tv.x, tv.n, tv.h);
+    }
+    return last;
+  }
+
+  // The displacement dx from v, halved after each refusal (at most
+  // o.move_backtracks tries, and not below o.min_move x the shortest edge
+  // once v is on the surface), the first placement that passes check()
+  // with a worst quality of at least `least`.
+  MovePlan first_passing(Vec3 dx, double least) const {
+    MovePlan plan;
+    plan.quality_before = quality_before;
+    const Vec3 s = m.mesh().position(v);
+    Rejection last = Rejection::NoGain;
+    for (int k = 0; k < o.move_backtracks; ++k, dx *= 0.5) {
+      if (k > 0 && m.on_surface(v) && !(norm(dx) > o.min_move * shortest)) break;
+      ++plan.tries;
+      const Placement at = m.place(s + dx, kind, {v});
+      double q = 1;
+      last = check(at, least, q);
+      if (last != Rejection::None) continue;
+      plan.why = Rejection::None;
+      plan.at = at;
+      plan.quality_after = q;
+      return plan;
+    }
+    plan.why = last;
+    return plan;
+  }
+};
+
+}  // namespace
+
 MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
   const SurfaceMesh& mesh = m.mesh();
   MovePlan plan;
-  const VertexKind kind = m.kind(v);
-  if (kind == VertexKind::Fixed) {
+  if (m.kind(v) == VertexKind::Fixed) {
     plan.why = Rejection::Fixed;
     return plan;
   }
-  const std::vector<Vertex> ring = one_ring(mesh, v);
-  std::vector<Vertex> curve_nbrs;
-  if (kind == VertexKind::Curve)
-    for (const FeatureEdgeAt& f : feature_edges_at(mesh, v)) curve_nbrs.push_back(f.other);
-  const std::vector<Vertex>& nbrs = kind == VertexKind::Curve ? curve_nbrs : ring;
+  const MoveCheck mc(m, v, o);
   const Vec3 s = mesh.position(v);
   const SymTensor3& Mi = m.metric(v);
   const SymTensor3 Mi_inv = inverse(Mi);
@@ -962,9 +1065,7 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
   // itself where both ends hold the same metric: a uniform field).
   SymTensor3 A{};
   Vec3 rhs;
-  double shortest = INFINITY;
-  for (Vertex w : ring) shortest = std::min(shortest, norm(mesh.position(w) - s));
-  for (Vertex w : nbrs) {
+  for (Vertex w : mc.neighbours()) {
     const SymTensor3& Mw = m.metric(w);
     const SymTensor3 Mj = Mw == Mi ? Mi : inverse(0.5 * (Mi_inv + inverse(Mw)));
     A += Mj;
@@ -976,85 +1077,107 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o) {
   }
   const Vec3 p0 = inverse(A) * rhs;
   Vec3 dx = o.omega * (p0 - s);
-  const double dmax = o.max_move * shortest;
+  const double dmax = o.max_move * mc.shortest;
   if (norm(dx) > dmax) dx *= dmax / norm(dx);
-  if (!(norm(dx) > o.min_move * shortest)) {
+  if (!(norm(dx) > o.min_move * mc.shortest)) {
     if (m.on_surface(v)) {
       plan.why = Rejection::NoGain;
       return plan;
     }
     dx = Vec3();  // only the projection onto the surface
   }
+  // Not worse than before (times move_quality_factor); a vertex off the
+  // surface is projected whatever the quality (validity only).
+  return mc.first_passing(dx, o.move_quality_factor * mc.quality_before);
+}
 
-  const std::vector<Corner> fan = mesh.fan(v);
-  std::vector<Vec3> old_n;
-  old_n.reserve(fan.size());
-  plan.quality_before = 1;
-  std::vector<double> old_limit;
-  old_limit.reserve(fan.size());
-  for (Corner x : fan) {
-    old_n.push_back(reference_normal(m, M::triangle(x)));
-    old_limit.push_back(degenerate_limit(height_ratio(m.mesh(), M::triangle(x))));
-    const Triangle t = M::triangle(x);
-    const auto current = [&] { return view(m, t, Vertex(), Vertex(), {}); };
-    plan.quality_before = std::min(plan.quality_before, counted_quality(m.quality(t), m, t, current, {}, {}, o));
-  }
-  // The current lengths of the incident edges (the length filter compares with them).
-  std::vector<double> old_len;
-  old_len.reserve(ring.size());
-  for (Vertex w : ring) old_len.push_back(m.length(v, w));
-  const Limits lim(o);
-  Rejection last = Rejection::NoGain;
-  for (int k = 0; k < o.move_backtracks; ++k, dx *= 0.5) {
-    // Halved below min_move, a displacement is no longer worth a move.
-    if (k > 0 && m.on_surface(v) && !(norm(dx) > o.min_move * shortest)) break;
-    ++plan.tries;
-    const Placement at = m.place(s + dx, kind, {v});
-    double q = 1;
-    last = Rejection::None;
-    for (std::size_t i = 0; i < fan.size() && last == Rejection::None; ++i) {
-      const TriangleView tv = view(m, M::triangle(fan[i]), v, Vertex(), at);
-      last = check_triangle(tv.x[0], tv.x[1], tv.x[2], old_n[i], tv.n, lim, false, old_limit[i]);
-      q = std::min(q, counted_quality(m.quality(tv.x, tv.M), m, M::triangle(fan[i]), [&] { return tv; }, {}, {}, o));
-      // Not worse than before (times move_quality_factor); a vertex off the
-      // surface is projected whatever the quality (validity only). q only
-      // falls with the rest of the fan: the test is made as it goes.
-      if (last == Rejection::None && ((m.on_surface(v) && !(q >= o.move_quality_factor * plan.quality_before)) || q <= 0))
-        last = Rejection::Quality;
-    }
-    if (last != Rejection::None) continue;
-    for (std::size_t i = 0; i < ring.size() && last == Rejection::None; ++i) {
-      const Vertex w = ring[i];
-      const double l_new = m.length(at.position, at.values.metric, mesh.position(w), m.metric(w));
-      if (l_new > o.lmax && l_new > old_len[i]) last = Rejection::Length;
-      if (o.move_keeps_lmin && plan.quality_before >= o.keep_lmin_quality && l_new < o.lmin && old_len[i] >= o.lmin)
-        last = Rejection::Length;
-    }
-    if (last != Rejection::None) continue;
-    if (kind == VertexKind::Curve) {
-      bool ok = true;
-      for (Vertex w : nbrs) ok = ok && curve_sag_ok(m, at, w, o);
-      if (!ok) {
-        last = Rejection::Tangent;
-        continue;
-      }
-    }
-    if (m.on_surface(v) && moved_edge_sags_off_input(m, v, at, ring, o)) {
-      last = Rejection::Deviation;
-      continue;
-    }
-    for (std::size_t i = 0; i < fan.size() && last == Rejection::None; ++i) {
-      const TriangleView tv = view(m, M::triangle(fan[i]), v, Vertex(), at);
-      last = check_surface_side(m, tv.x, tv.n, tv.h);
-    }
-    if (last != Rejection::None) continue;
-    plan.why = Rejection::None;
-    plan.at = at;
-    plan.quality_after = q;
+MovePlan can_move_for_worst(AdaptedMesh& m, Vertex v, const OperatorOptions& o, double gain, double trade_below) {
+  const SurfaceMesh& mesh = m.mesh();
+  MovePlan plan;
+  if (m.kind(v) != VertexKind::Free || !m.on_surface(v)) {
+    plan.why = Rejection::Fixed;
     return plan;
   }
-  plan.why = last;
-  return plan;
+  const Vec3& n = m.surface_normal(v);
+  if (!(norm2(n) > 0)) {
+    plan.why = Rejection::NoGain;
+    return plan;
+  }
+  const Vec3 s = mesh.position(v);
+  // The fan's worst quality with v at s + x, its metric and the others' as
+  // they are, unprojected: what the search climbs (the placement checks the
+  // point it ends at).
+  std::vector<std::array<Vertex, 3>> tris;
+  double shortest = INFINITY;
+  for (Corner c : mesh.fan(v)) {
+    const Triangle t = M::triangle(c);
+    tris.push_back({mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2)});
+  }
+  for (Vertex w : one_ring(mesh, v)) shortest = std::min(shortest, norm(mesh.position(w) - s));
+  // Its worst and its summed quality there.
+  auto qualities_at = [&](const Vec3& x) {
+    std::pair<double, double> q{1.0, 0.0};
+    for (const auto& t : tris) {
+      std::array<Vec3, 3> p;
+      std::array<SymTensor3, 3> M3;
+      for (int k = 0; k < 3; ++k) {
+        p[k] = t[k] == v ? s + x : mesh.position(t[k]);
+        M3[k] = m.metric(t[k]);
+      }
+      const double qt = m.quality(p, M3);
+      q.first = std::min(q.first, qt);
+      q.second += qt;
+    }
+    return q;
+  };
+  // Compass search in the tangent plane: eight directions, the step halved
+  // where none gains; the worst quality climbs and the sum over the fan
+  // does not fall, or, for a worst triangle below trade_below, falls by no
+  // more than the worst gains.
+  const Vec3 un = normalized(n);
+  const Vec3 axis = std::abs(un.x) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  const Vec3 e1 = normalized(cross(un, axis)), e2 = cross(un, e1);
+  const double r = 1.0 / std::sqrt(2.0);
+  const std::array<Vec3, 8> dirs = {e1, -1.0 * e1, e2, -1.0 * e2, r * (e1 + e2), r * (e1 - e2), r * (e2 - e1), -r * (e1 + e2)};
+  Vec3 x;
+  const auto [start, start_sum] = qualities_at(x);
+  // Where the metric varies over the fan (by more than 5%), the measured
+  // qualities depend on how lengths are read between vertices (eq. 6 or 7,
+  // the field's own jumps): a move there is left to eq. 19.
+  const SymTensor3& Mv = m.metric(v);
+  for (const auto& t : tris)
+    for (Vertex w : t)
+      if (!(frobenius_norm(m.metric(w) - Mv) <= 0.05 * frobenius_norm(Mv))) {
+        plan.why = Rejection::NoGain;
+        return plan;
+      }
+  double best = start;
+  double step = 0.25 * shortest;
+  const double smallest = o.min_move * shortest;
+  for (int evals = 0; step >= smallest && evals < 48;) {
+    int chosen = -1;
+    double chosen_q = best;
+    for (int d = 0; d < 8; ++d, ++evals) {
+      const auto [q, sum] = qualities_at(x + step * dirs[static_cast<std::size_t>(d)]);
+      if (q > chosen_q && sum >= start_sum - (start < trade_below ? q - start : 0.0)) {
+        chosen_q = q;
+        chosen = d;
+      }
+    }
+    if (chosen < 0) {
+      step *= 0.5;
+      continue;
+    }
+    x += step * dirs[static_cast<std::size_t>(chosen)];
+    best = chosen_q;
+  }
+  if (!(best > gain * start) || !(norm(x) > smallest)) {
+    plan.why = Rejection::NoGain;
+    return plan;
+  }
+  MoveCheck mc(m, v, o);
+  mc.keeps_short_edges = true;
+  return mc.first_passing(x, gain * mc.quality_before);
 }
 
 void move(AdaptedMesh& m, Vertex v, const MovePlan& plan) { m.commit(v, plan.at); }

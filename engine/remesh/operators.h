@@ -244,6 +244,17 @@ struct MovePlan {
 // is not lower than before (times move_quality_factor) and no incident edge
 // grows beyond lmax (smoothing must not undo the splits).
 MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o);
+// The final optimisation's worst-element relocation (ours): a free vertex
+// on the surface moved where the worst quality of its fan is largest (a
+// compass search in its tangent plane, the fan's metrics as they are) while
+// the fan's summed quality does not fall (for a fan whose worst is below
+// `trade_below`: falls by no more than the worst gains), then placed on the
+// surface and checked as by can_move, no edge below lmin made shorter;
+// refused (NoGain) unless the worst quality rises above `gain` times what
+// it was or where the metric varies by more than 5% over the fan (the
+// lengths there depend on how they are read between the vertices), Fixed
+// for a vertex that is not free or not on the surface.
+MovePlan can_move_for_worst(AdaptedMesh& m, Vertex v, const OperatorOptions& o, double gain, double trade_below);
 // Pre: plan.why == None.
 void move(AdaptedMesh& m, Vertex v, const MovePlan& plan);
 

@@ -562,6 +562,9 @@ void Remesher::final_pass(PassReport& r) {
   final_smoothing(r, options_.final_full_passes);
   // The repairs' neighbourhoods are smoothed again (repair_poor_fans marks them alone).
   if (!r.interrupted && options_.repair_quality > 0 && repair_poor_fans(r) > 0) final_smoothing(r, 0);
+  if (!r.interrupted && options_.relocate_quality > 0)
+    for (int sweep = 0; sweep < options_.relocate_sweeps && !r.interrupted; ++sweep)
+      if (relocate_worst(r) == 0) break;
   if (!r.interrupted) bound_distance(r);
   if (!r.interrupted) keep_creases(r);
 }
@@ -606,6 +609,40 @@ int Remesher::repair_poor_fans(PassReport& r) {
     touch(r, k);
   }
   return removed;
+}
+
+int Remesher::relocate_worst(PassReport& r) {
+  SurfaceMesh& mesh = mesh_.mesh();
+  // The vertices of the poor triangles, the worst first, each tried once.
+  std::vector<std::pair<double, int>> poor;
+  for (Triangle t : mesh.triangles()) {
+    const double q = mesh_.quality(t);
+    if (q < options_.relocate_quality)
+      for (int k = 0; k < 3; ++k) poor.push_back({q, mesh.vertex(t, k).idx});
+  }
+  std::sort(poor.begin(), poor.end());
+  std::vector<std::uint8_t> tried(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
+  OperatorOptions o = options_.op;
+  o.move_keeps_lmin = options_.final_keeps_lmin;
+  int moved = 0;
+  for (const auto& [q, i] : poor) {
+    const Vertex v(i);
+    if (interrupted(r)) break;
+    if (std::exchange(tried[static_cast<std::size_t>(i)], std::uint8_t{1})) continue;
+    if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+    const MovePlan plan = can_move_for_worst(mesh_, v, o, options_.relocate_gain, options_.relocate_trade_quality);
+    if (plan.why != Rejection::None) {
+      // A vertex that may not move this way, or has nothing to gain, is not a refusal.
+      if (plan.why != Rejection::Fixed && plan.why != Rejection::NoGain) refuse(r, PassKind::Final, plan.why);
+      continue;
+    }
+    move(mesh_, v, plan);
+    ++r.moves;
+    ++moved;
+    record_touched(r, v);
+    stamp(v);  // moved: its edges' sag memo (edge_sags) is stale
+  }
+  return moved;
 }
 
 std::array<int, 2> Remesher::crease_spoke(Corner c) {

@@ -85,6 +85,18 @@ struct RemeshOptions {
   // smoothing then runs again around them. 0: off.
   double repair_quality = 0.8;
   double repair_gain = 1.05;
+  // Final optimisation (ours): then the free vertices of the triangles below
+  // relocate_quality, the worst first, are moved where the worst quality of
+  // their fan is largest (can_move_for_worst: eq. 19's barycentre is where
+  // the edges' lengths balance, not where the worst triangle is best),
+  // when that raises it by the factor relocate_gain and the fan's summed
+  // quality does not fall (below relocate_trade_quality: falls by no more
+  // than the worst gains), where the metric varies by less than 5% over
+  // the fan; at most relocate_sweeps sweeps. 0: off.
+  double relocate_quality = 0.9;
+  double relocate_gain = 1.01;
+  double relocate_trade_quality = 0.8;
+  int relocate_sweeps = 1;
   bool local_swaps = true;           // section 6, step 2: swaps around each split / collapse
   // ... except after a collapse that leaves an edge of its fan to collapse
   // next (ours): the fan changes again at once, so its swaps wait for the
@@ -364,6 +376,9 @@ class Remesher {
   // The final pass's repair (RemeshOptions::repair_quality); returns the
   // count of vertices removed.
   int repair_poor_fans(PassReport& r);
+  // The final pass's relocation of the worst triangles' vertices
+  // (RemeshOptions::relocate_quality); returns the count of moves.
+  int relocate_worst(PassReport& r);
   // The end of the final pass with a distance bound (RemeshOptions::
   // distance_bound): the sweeps of splits onto the input.
   void bound_distance(PassReport& r);

@@ -236,7 +236,7 @@ Bounds: hmin=0, hmax=inf, max_aniso=inf. hausd= chordal deviation
   (Result.size_protection); hausd=0: none.
   hgrad=1.3 (-1: off), hgrad_space='metric' | 'physical'.
 Remeshing: lmin=0.72, lmax=1.4, ridge_angle=45 (--ar), detect_ridges=True
-  (False: --nr), curve_turn=25, curve_sag=0.1, crease_keep=0.6, repair_quality=0.8, strip_width=0.5, free_surface=False, rounds=30,
+  (False: --nr), curve_turn=25, curve_sag=0.1, crease_keep=0.6, repair_quality=0.8, relocate_quality=0.9, strip_width=0.5, free_surface=False, rounds=30,
   relax=0, cycles=1, fixed_point=0.02, max_memory=0 (MB), length='linear' |
   'log', interpolation='size' | 'linear' | 'inverse' | 'log', surface='auto'
   (g1, or polyhedral for a coarsening whose G1 surface lies within 0.05 h

@@ -56,7 +56,7 @@ const std::vector<std::string> kTuningKeywords = {"error", "complexity", "target
 const std::vector<std::string> kSourceKeywords = {"metric", "size", "tensor", "hessian_of", "hessian_of_field",
                                                   "curvature"};
 const std::vector<std::string> kRemeshKeywords = {
-    "ridge_angle", "detect_ridges", "lmin", "lmax", "curve_turn", "curve_sag", "crease_keep", "repair_quality", "strip_width", "free_surface", "rounds", "relax",
+    "ridge_angle", "detect_ridges", "lmin", "lmax", "curve_turn", "curve_sag", "crease_keep", "repair_quality", "relocate_quality", "strip_width", "free_surface", "rounds", "relax",
     "cycles", "fixed_point", "max_memory", "max_growth", "measure_every_pass", "length", "interpolation", "surface", "weld",
     "threads"};
 
@@ -212,6 +212,7 @@ void adapt_options_from(Keywords& k, remesh::AdaptOptions& o) {
   o.remesh.op.curve_sag = k.take_double("curve_sag", o.remesh.op.curve_sag);
   o.remesh.crease_keep = k.take_double("crease_keep", o.remesh.crease_keep);
   o.remesh.repair_quality = k.take_double("repair_quality", o.remesh.repair_quality);
+  o.remesh.relocate_quality = k.take_double("relocate_quality", o.remesh.relocate_quality);
   o.remesh.op.strip_width = k.take_double("strip_width", o.remesh.op.strip_width);
   if (k.take_bool("free_surface", false)) o.input_bound.enabled = false;
   o.remesh.max_rounds = k.take_int("rounds", o.remesh.max_rounds);
@@ -235,6 +236,8 @@ void adapt_options_from(Keywords& k, remesh::AdaptOptions& o) {
     throw py::value_error(k.function() + "(): crease_keep expects a share in [0, 1] (0: off)");
   if (!(o.remesh.repair_quality >= 0) || !(o.remesh.repair_quality <= 1))
     throw py::value_error(k.function() + "(): repair_quality expects a quality in [0, 1] (0: off)");
+  if (!(o.remesh.relocate_quality >= 0) || !(o.remesh.relocate_quality <= 1))
+    throw py::value_error(k.function() + "(): relocate_quality expects a quality in [0, 1] (0: off)");
   if (!(o.remesh.op.strip_width >= 0))
     throw py::value_error(k.function() + "(): strip_width expects a metric length >= 0 (0: off)");
   if (o.remesh.max_rounds < 1 || o.cycles < 1 || o.remesh.relaxation_stages < 0)
