@@ -382,20 +382,31 @@ TEST_CASE("anisurf adapt --threads: regions in the report, the same output twice
   CHECK(!std::filesystem::exists(dir / "bad.mesh"));
 }
 
+namespace {
+
+// sphere20k adapted to size 0.02 on 2 threads with `option`: its JSON
+// report, the output checked valid.
+nlohmann::json adapt_sphere20k_report(const std::string& mesh, const std::filesystem::path& dir, const std::string& name,
+                                      const std::string& option) {
+  const std::string out = (dir / (name + ".mesh")).string(), report = (dir / (name + ".json")).string();
+  int status = -1;
+  adapt("'" + mesh + "' --size 0.02 --threads 2 " + option + " --report '" + report + "' -o '" + out + "'", &status);
+  REQUIRE(status == 0);
+  CHECK(load_mesh(out).validate().ok());
+  std::ifstream f(report);
+  return nlohmann::json::parse(f);
+}
+
+}  // namespace
+
 TEST_CASE("anisurf adapt --repair-quality: the final passes' repairs, on by default, off with 0") {
   ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/sphere20k.mesh");
   const auto dir = test::temp_dir("adapt_repair");
   auto run = [&](const std::string& name, const std::string& option) {
-    const std::string out = (dir / (name + ".mesh")).string(), report = (dir / (name + ".json")).string();
-    int status = -1;
-    adapt("'" + mesh + "' --size 0.02 --threads 2 " + option + " --report '" + report + "' -o '" + out + "'", &status);
-    REQUIRE(status == 0);
-    std::ifstream f(report);
-    const nlohmann::json j = nlohmann::json::parse(f);
+    const nlohmann::json j = adapt_sphere20k_report(mesh, dir, name, option);
     int repairs = 0;
     for (const auto& p : j["passes"])
       if (p["pass"] == "final") repairs += p["collapses"].get<int>();
-    CHECK(load_mesh(out).validate().ok());
     return std::make_pair(repairs, j["final"]["q_min"].get<double>());
   };
   // The repair alone (the relocations after it off in both runs).
@@ -411,13 +422,7 @@ TEST_CASE("anisurf adapt --relocate-quality: the worst triangles' vertices reloc
   ANISURF_REQUIRE_SHARED(mesh, "bench/inputs/sphere20k.mesh");
   const auto dir = test::temp_dir("adapt_relocate");
   auto run = [&](const std::string& name, const std::string& option) {
-    const std::string out = (dir / (name + ".mesh")).string(), report = (dir / (name + ".json")).string();
-    int status = -1;
-    adapt("'" + mesh + "' --size 0.02 --threads 2 " + option + " --report '" + report + "' -o '" + out + "'", &status);
-    REQUIRE(status == 0);
-    std::ifstream f(report);
-    const nlohmann::json j = nlohmann::json::parse(f);
-    CHECK(load_mesh(out).validate().ok());
+    const nlohmann::json j = adapt_sphere20k_report(mesh, dir, name, option);
     return std::make_pair(j["final"]["q_min"].get<double>(), j["final"]["q_mean"].get<double>());
   };
   const auto [q_min, q_mean] = run("default", "");

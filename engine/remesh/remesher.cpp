@@ -577,16 +577,21 @@ void Remesher::final_smoothing(PassReport& r, int full_passes) {
   }
 }
 
-int Remesher::repair_poor_fans(PassReport& r) {
-  SurfaceMesh& mesh = mesh_.mesh();
-  // The vertices of the poor triangles, the worst first.
+std::vector<std::pair<double, int>> Remesher::vertices_of_triangles_below(double quality) const {
+  const SurfaceMesh& mesh = mesh_.mesh();
   std::vector<std::pair<double, int>> poor;
   for (Triangle t : mesh.triangles()) {
     const double q = mesh_.quality(t);
-    if (q < options_.repair_quality)
+    if (q < quality)
       for (int k = 0; k < 3; ++k) poor.push_back({q, mesh.vertex(t, k).idx});
   }
   std::sort(poor.begin(), poor.end());
+  return poor;
+}
+
+int Remesher::repair_poor_fans(PassReport& r) {
+  SurfaceMesh& mesh = mesh_.mesh();
+  const std::vector<std::pair<double, int>> poor = vertices_of_triangles_below(options_.repair_quality);
   // Each vertex tried once (collapses free slots, they add none); the next
   // smoothing visits the repairs' neighbourhoods only.
   std::vector<std::uint8_t> tried(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
@@ -613,14 +618,8 @@ int Remesher::repair_poor_fans(PassReport& r) {
 
 int Remesher::relocate_worst(PassReport& r) {
   SurfaceMesh& mesh = mesh_.mesh();
-  // The vertices of the poor triangles, the worst first, each tried once.
-  std::vector<std::pair<double, int>> poor;
-  for (Triangle t : mesh.triangles()) {
-    const double q = mesh_.quality(t);
-    if (q < options_.relocate_quality)
-      for (int k = 0; k < 3; ++k) poor.push_back({q, mesh.vertex(t, k).idx});
-  }
-  std::sort(poor.begin(), poor.end());
+  // Each vertex of the poor triangles tried once.
+  const std::vector<std::pair<double, int>> poor = vertices_of_triangles_below(options_.relocate_quality);
   std::vector<std::uint8_t> tried(static_cast<std::size_t>(mesh.vertex_capacity()), 0);
   OperatorOptions o = options_.op;
   o.move_keeps_lmin = options_.final_keeps_lmin;

@@ -373,6 +373,9 @@ class Remesher {
   // "8-10 times"): the first full_passes visit them all, the others those
   // with a triangle below final_visit_quality in their fan; until one moves nothing.
   void final_smoothing(PassReport& r, int full_passes);
+  // The vertices of the triangles below `quality` with their triangle's
+  // quality, the worst first (a vertex once per such triangle).
+  std::vector<std::pair<double, int>> vertices_of_triangles_below(double quality) const;
   // The final pass's repair (RemeshOptions::repair_quality); returns the
   // count of vertices removed.
   int repair_poor_fans(PassReport& r);
