@@ -107,6 +107,7 @@ TEST_CASE("gradation: a random anisotropic field on a grid, metric and physical 
     GradationOptions o;
     o.ratio = 1.3;
     o.space = space;
+    o.measure_excess = true;
     std::vector<SymTensor3> M = original;
     const GradationReport r = gradate_metric(g.pos, g.edges, M, o);
     MESSAGE(std::string(space == GradationSpace::Metric ? "metric" : "physical")

@@ -142,7 +142,7 @@ GradationReport gradate_metric(const std::vector<Vec3>& positions, const std::ve
   }
   const Adjacency adjacency(n, edges);
   GradationReport report;
-  report.max_excess_before = largest_excess(positions, edges, metric, options);
+  if (options.measure_excess) report.max_excess_before = largest_excess(positions, edges, metric, options);
 
   const double log_ratio = std::log(options.ratio);
   const double accept = (1.0 + options.tolerance) * (1.0 + options.tolerance);  // on eigenvalues of M_q^-1 P
