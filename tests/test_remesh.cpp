@@ -1258,3 +1258,63 @@ TEST_CASE("move: can_move_for_worst raises the worst quality of the fan, keeps i
   CHECK(summed_after > summed_before);
   CHECK(a.count_inverted() == 0);
 }
+
+TEST_CASE("move: can_move_for_worst keeps the triangles across a jump of the metric from getting worse") {
+  // A fine icosphere coarsened to a size that halves below the equator:
+  // the triangles across the jump have a quality that depends on how
+  // lengths are read between their vertices; a relocation improves the
+  // others and keeps those.
+  SurfaceMesh input = test::build(test::jittered_icosphere(5, 0.995, 1.005, 7));
+  detect_features(input, FeatureOptions{});
+  PolyhedralSurface geometry(input);
+  MetricField metric(static_cast<std::size_t>(input.vertex_capacity()), isotropic_metric(0.12));
+  for (Vertex v : input.vertices())
+    if (input.position(v).z < 0) metric[static_cast<std::size_t>(v.idx)] = isotropic_metric(0.06);
+  ControlSpace control(input, metric, true, MetricInterpolation::Linear, "sol0");
+  AdaptedMesh a(input, geometry, control, LengthFormula::LinearMetric, false);
+  RemeshOptions ro;
+  ro.op.lmin = 0.72;
+  ro.relocate_quality = 0;
+  Remesher(a, ro).run();
+  SurfaceMesh& m = a.mesh();
+  auto varies = [&](Triangle t) {
+    const SymTensor3& M0 = a.metric(m.vertex(t, 0));
+    for (int k = 1; k < 3; ++k)
+      if (!(frobenius_norm(a.metric(m.vertex(t, k)) - M0) <= 0.05 * frobenius_norm(M0))) return true;
+    return false;
+  };
+  int moved = 0, across = 0;
+  for (Vertex v : m.vertices()) {
+    if (a.kind(v) != VertexKind::Free) continue;
+    std::vector<std::tuple<Triangle, double, bool>> before;  // quality and metric varying, before the move
+    double worst = 1;
+    bool near_jump = false, poor = false;
+    for (Corner c : m.fan(v)) {
+      const Triangle t = SurfaceMesh::triangle(c);
+      before.push_back({t, a.quality(t), varies(t)});
+      worst = std::min(worst, a.quality(t));
+      near_jump = near_jump || varies(t);
+      poor = poor || a.quality(t) < 0.9;
+    }
+    if (!poor) continue;
+    const MovePlan p = can_move_for_worst(a, v, ro.op, 1.01, 0.8);
+    if (p.why != Rejection::None) continue;
+    move(a, v, p);
+    ++moved;
+    double worst_after = 1;
+    for (const auto& [t, q, varied] : before) {
+      worst_after = std::min(worst_after, a.quality(t));
+      if (varied) {
+        ++across;
+        CHECK(a.quality(t) >= q);
+      }
+    }
+    CHECK(worst_after >= worst - 1e-9);
+    if (near_jump) CHECK(p.quality_after >= p.quality_before);
+  }
+  MESSAGE(moved << " vertices moved, " << across << " triangles across the jump in their fans");
+  CHECK(moved > 0);
+  CHECK(across > 0);
+  CHECK(m.validate().ok());
+  CHECK(a.count_inverted() == 0);
+}

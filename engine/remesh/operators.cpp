@@ -1114,10 +1114,32 @@ MovePlan can_move_for_worst(AdaptedMesh& m, Vertex v, const OperatorOptions& o, 
     tris.push_back({mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2)});
   }
   for (Vertex w : one_ring(mesh, v)) shortest = std::min(shortest, norm(mesh.position(w) - s));
-  // Its worst and its summed quality there.
-  auto qualities_at = [&](const Vec3& x) {
+  // Triangles whose vertices' metrics differ by more than 5%: there the
+  // measured quality depends on how lengths are read between the vertices
+  // (eq. 6 or 7, the field's own jumps), so such a triangle is only kept
+  // from getting worse, and the others are what the search improves.
+  const double kVaries = 0.05;
+  std::vector<char> varies(tris.size(), 0);
+  int uniform = 0;
+  for (std::size_t i = 0; i < tris.size(); ++i) {
+    const SymTensor3& M0 = m.metric(tris[i][0]);
+    for (int k = 1; k < 3; ++k)
+      if (!(frobenius_norm(m.metric(tris[i][k]) - M0) <= kVaries * frobenius_norm(M0))) varies[i] = 1;
+    uniform += varies[i] ? 0 : 1;
+  }
+  if (uniform == 0) {
+    plan.why = Rejection::NoGain;
+    return plan;
+  }
+  std::vector<double> kept(tris.size(), 0.0);  // the varying triangles' qualities as they are
+  // The worst and the summed quality of the uniform triangles with v at
+  // s + x, its metric and the others' as they are, unprojected (the
+  // placement checks the point the search ends at); the worst is -1 where a
+  // varying triangle gets worse.
+  auto qualities_at = [&](const Vec3& x, bool record = false) {
     std::pair<double, double> q{1.0, 0.0};
-    for (const auto& t : tris) {
+    for (std::size_t i = 0; i < tris.size(); ++i) {
+      const auto& t = tris[i];
       std::array<Vec3, 3> p;
       std::array<SymTensor3, 3> M3;
       for (int k = 0; k < 3; ++k) {
@@ -1125,6 +1147,11 @@ MovePlan can_move_for_worst(AdaptedMesh& m, Vertex v, const OperatorOptions& o, 
         M3[k] = m.metric(t[k]);
       }
       const double qt = m.quality(p, M3);
+      if (varies[i]) {
+        if (record) kept[i] = qt;
+        else if (qt < kept[i]) q.first = -1;
+        continue;
+      }
       q.first = std::min(q.first, qt);
       q.second += qt;
     }
@@ -1132,25 +1159,16 @@ MovePlan can_move_for_worst(AdaptedMesh& m, Vertex v, const OperatorOptions& o, 
   };
   // Compass search in the tangent plane: eight directions, the step halved
   // where none gains; the worst quality climbs and the sum over the fan
-  // does not fall, or, for a worst triangle below trade_below, falls by no
-  // more than the worst gains.
+  // does not fall, or, for a worst triangle below trade_below in a fan
+  // whose metric does not vary, falls by no more than the worst gains.
   const Vec3 un = normalized(n);
   const Vec3 axis = std::abs(un.x) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
   const Vec3 e1 = normalized(cross(un, axis)), e2 = cross(un, e1);
   const double r = 1.0 / std::sqrt(2.0);
   const std::array<Vec3, 8> dirs = {e1, -1.0 * e1, e2, -1.0 * e2, r * (e1 + e2), r * (e1 - e2), r * (e2 - e1), -r * (e1 + e2)};
   Vec3 x;
-  const auto [start, start_sum] = qualities_at(x);
-  // Where the metric varies over the fan (by more than 5%), the measured
-  // qualities depend on how lengths are read between vertices (eq. 6 or 7,
-  // the field's own jumps): a move there is left to eq. 19.
-  const SymTensor3& Mv = m.metric(v);
-  for (const auto& t : tris)
-    for (Vertex w : t)
-      if (!(frobenius_norm(m.metric(w) - Mv) <= 0.05 * frobenius_norm(Mv))) {
-        plan.why = Rejection::NoGain;
-        return plan;
-      }
+  const auto [start, start_sum] = qualities_at(x, true);
+  const double trade = uniform == static_cast<int>(tris.size()) ? trade_below : 0.0;
   double best = start;
   double step = 0.25 * shortest;
   const double smallest = o.min_move * shortest;
@@ -1159,7 +1177,7 @@ MovePlan can_move_for_worst(AdaptedMesh& m, Vertex v, const OperatorOptions& o, 
     double chosen_q = best;
     for (int d = 0; d < 8; ++d, ++evals) {
       const auto [q, sum] = qualities_at(x + step * dirs[static_cast<std::size_t>(d)]);
-      if (q > chosen_q && sum >= start_sum - (start < trade_below ? q - start : 0.0)) {
+      if (q > chosen_q && sum >= start_sum - (start < trade ? q - start : 0.0)) {
         chosen_q = q;
         chosen = d;
       }
@@ -1177,7 +1195,22 @@ MovePlan can_move_for_worst(AdaptedMesh& m, Vertex v, const OperatorOptions& o, 
   }
   MoveCheck mc(m, v, o);
   mc.keeps_short_edges = true;
-  return mc.first_passing(x, gain * mc.quality_before);
+  MovePlan placed = mc.first_passing(x, uniform == static_cast<int>(tris.size()) ? gain * mc.quality_before : mc.quality_before);
+  if (placed.why != Rejection::None) return placed;
+  // The varying triangles with v where it lands (its metric read there).
+  for (std::size_t i = 0; i < mc.fan.size(); ++i) {
+    const Triangle t = M::triangle(mc.fan[i]);
+    const std::size_t k = static_cast<std::size_t>(std::find_if(tris.begin(), tris.end(), [&](const auto& w) {
+                                                    return w[0] == mesh.vertex(t, 0) && w[1] == mesh.vertex(t, 1) && w[2] == mesh.vertex(t, 2);
+                                                  }) - tris.begin());
+    if (k >= tris.size() || !varies[k]) continue;
+    const TriangleView tv = view(m, t, v, Vertex(), placed.at);
+    if (m.quality(tv.x, tv.M) < m.quality(t)) {
+      placed.why = Rejection::Quality;
+      return placed;
+    }
+  }
+  return placed;
 }
 
 void move(AdaptedMesh& m, Vertex v, const MovePlan& plan) { m.commit(v, plan.at); }

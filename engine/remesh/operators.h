@@ -251,9 +251,11 @@ MovePlan can_move(AdaptedMesh& m, Vertex v, const OperatorOptions& o);
 // `trade_below`: falls by no more than the worst gains), then placed on the
 // surface and checked as by can_move, no edge below lmin made shorter;
 // refused (NoGain) unless the worst quality rises above `gain` times what
-// it was or where the metric varies by more than 5% over the fan (the
-// lengths there depend on how they are read between the vertices), Fixed
-// for a vertex that is not free or not on the surface.
+// it was. A triangle whose vertices' metrics differ by more than 5% (its
+// lengths depend on how they are read between the vertices: a jump of the
+// field) does not count in the worst and the sum but may not get worse,
+// v's metric read where it lands (else Quality). Fixed for a vertex that
+// is not free or not on the surface.
 MovePlan can_move_for_worst(AdaptedMesh& m, Vertex v, const OperatorOptions& o, double gain, double trade_below);
 // Pre: plan.why == None.
 void move(AdaptedMesh& m, Vertex v, const MovePlan& plan);

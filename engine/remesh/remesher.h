@@ -91,8 +91,9 @@ struct RemeshOptions {
   // the edges' lengths balance, not where the worst triangle is best),
   // when that raises it by the factor relocate_gain and the fan's summed
   // quality does not fall (below relocate_trade_quality: falls by no more
-  // than the worst gains), where the metric varies by less than 5% over
-  // the fan; at most relocate_sweeps sweeps. 0: off.
+  // than the worst gains), a triangle whose vertices' metrics differ by
+  // more than 5% only kept from getting worse; at most relocate_sweeps
+  // sweeps. 0: off.
   double relocate_quality = 0.9;
   double relocate_gain = 1.01;
   double relocate_trade_quality = 0.8;
