@@ -1197,13 +1197,11 @@ MovePlan can_move_for_worst(AdaptedMesh& m, Vertex v, const OperatorOptions& o, 
   mc.keeps_short_edges = true;
   MovePlan placed = mc.first_passing(x, uniform == static_cast<int>(tris.size()) ? gain * mc.quality_before : mc.quality_before);
   if (placed.why != Rejection::None) return placed;
-  // The varying triangles with v where it lands (its metric read there).
+  // The varying triangles with v where it lands (its metric read there);
+  // mc.fan is the fan `tris` was taken from, in the same order.
   for (std::size_t i = 0; i < mc.fan.size(); ++i) {
+    if (!varies[i]) continue;
     const Triangle t = M::triangle(mc.fan[i]);
-    const std::size_t k = static_cast<std::size_t>(std::find_if(tris.begin(), tris.end(), [&](const auto& w) {
-                                                    return w[0] == mesh.vertex(t, 0) && w[1] == mesh.vertex(t, 1) && w[2] == mesh.vertex(t, 2);
-                                                  }) - tris.begin());
-    if (k >= tris.size() || !varies[k]) continue;
     const TriangleView tv = view(m, t, v, Vertex(), placed.at);
     if (m.quality(tv.x, tv.M) < m.quality(t)) {
       placed.why = Rejection::Quality;
